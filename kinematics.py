@@ -1,0 +1,650 @@
+"""Kinematics of DH manipulators: forward (single and batched), differential and inverse.
+
+Frames and units
+----------------
+* Standard DH: ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)`` maps frame i to frame i-1.
+* Frame 0 in the world is ``world_tf @ robot.base_tf`` (``world_tf`` is where the robot
+  stands, identity by default); frame i = frame 0 · A_1 ⋯ A_i; joint i turns (or slides)
+  about z of frame i-1.  The endeffector (tool) frame is frame n · ``robot.endeff_tf``.
+* Joint vector q: radians for revolute joints, metres for prismatic ones.
+* Twists and Jacobians are stacked ``[linear velocity (m/s); angular velocity (rad/s)]``
+  and expressed in the world frame, the linear part at the endeffector origin.
+
+Hot paths
+---------
+Batched functions walk the chain *column by column* on (3, M) arrays for chunks of M
+configurations that fit in cache: per joint a handful of vector operations update the
+x, y, z and origin columns of the running transform, specialised for the twist angles
+that DH tables nearly always use (0, ±90°, 180°).  No (N, n, 4, 4) stack of link matrices
+is ever built; extra memory is a few chunk-sized buffers.  cos θ and sin θ come from one
+SIMD ``tan`` of the half angle (``c = (1 - t²)/(1 + t²)``, ``s = 2t/(1 + t²)``), several
+times faster than NumPy's scalar float64 ``cos`` and ``sin``.
+
+This module imports neither OpenGL nor Qt.
+"""
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_defs import JTYPE_REVOLUTE, RobotParams
+from robot_state import JointState, check_joint_vector
+from transforms import HomogeneousTransform, is_rigid_transform, rotation_log
+
+FloatArray = NDArray[np.float64]
+
+#: Configurations processed per chunk by the batched kernels: small enough that the
+#: dozen (3, CHUNK) work arrays stay in the L2 cache, large enough to hide NumPy's
+#: per-call overhead.
+CHUNK = 2048
+
+# Twist angle classes: each gets its own cheap update of the (y, z) columns.
+_ALPHA_ZERO, _ALPHA_PLUS90, _ALPHA_MINUS90, _ALPHA_PI, _ALPHA_GENERAL = range(5)
+_ANGLE_TOL = 1e-12
+
+
+def _alpha_kind(alpha: float) -> int:
+    ca, sa = np.cos(alpha), np.sin(alpha)
+    if abs(sa) < _ANGLE_TOL:
+        return _ALPHA_ZERO if ca > 0 else _ALPHA_PI
+    if abs(ca) < _ANGLE_TOL:
+        return _ALPHA_PLUS90 if sa > 0 else _ALPHA_MINUS90
+    return _ALPHA_GENERAL
+
+
+class _ChainModel:
+    """Precomputed, robot-specific data for the kinematic kernels (built once per robot)."""
+
+    def __init__(self, robot: RobotParams) -> None:
+        self.robot = robot
+        self.n = robot.n_dofs
+        self.revolute = robot.jtype == JTYPE_REVOLUTE
+        self.rev_index = np.flatnonzero(self.revolute)
+        self.alpha_kind = [_alpha_kind(al) for al in robot.dh_alpha]
+        self.ca = np.cos(robot.dh_alpha)
+        self.sa = np.sin(robot.dh_alpha)
+        self.ct_const = np.cos(robot.dh_th)
+        self.st_const = np.sin(robot.dh_th)
+        self.half_th = 0.5 * robot.dh_th
+        tool = robot.endeff_tf.mat
+        self.tool = tool
+        self.tool_rotates = not np.allclose(tool[:3, :3], np.eye(3), atol=0.0, rtol=0.0)
+        self.tool_translates = bool(np.any(tool[:3, 3] != 0.0))
+        # A_i = basis_i[0] + cos θ_i basis_i[1] + sin θ_i basis_i[2] + d_i basis_i[3]
+        basis = np.zeros((self.n, 4, 4, 4))
+        ca, sa, a = self.ca, self.sa, robot.dh_a
+        basis[:, 0, 2, 1], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = sa, ca, 1.0
+        basis[:, 1, 0, 0], basis[:, 1, 0, 3] = 1.0, a
+        basis[:, 1, 1, 1], basis[:, 1, 1, 2] = ca, -sa
+        basis[:, 2, 1, 0], basis[:, 2, 1, 3] = 1.0, a
+        basis[:, 2, 0, 1], basis[:, 2, 0, 2] = -ca, sa
+        basis[:, 3, 2, 3] = 1.0
+        self.basis = basis.reshape(self.n, 4, 16)
+
+    # ---------------------------------------------------------------- single configuration
+    def frames(self, th: FloatArray, d: FloatArray, world0: FloatArray) -> FloatArray:
+        """World frames 0..n (n+1, 4, 4) from full DH θ (rad) and d (m) of every joint."""
+        coeff = np.empty((self.n, 1, 4))
+        coeff[:, 0, 0] = 1.0
+        coeff[:, 0, 1] = np.cos(th)
+        coeff[:, 0, 2] = np.sin(th)
+        coeff[:, 0, 3] = d
+        links = np.matmul(coeff, self.basis).reshape(self.n, 4, 4)
+        out = np.empty((self.n + 1, 4, 4))
+        out[0] = world0
+        for i in range(self.n):
+            np.matmul(out[i], links[i], out=out[i + 1])
+        return out
+
+    def th_d(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Full DH θ and d of every joint for joint vector q (n,)."""
+        r = self.robot
+        return np.where(self.revolute, r.dh_th + q, r.dh_th), np.where(self.revolute, r.dh_d, r.dh_d + q)
+
+    def jacobian(self, frames: FloatArray, p_e: FloatArray) -> FloatArray:
+        """Geometric Jacobian (6, n) at world point ``p_e`` from world frames 0..n."""
+        z = frames[:-1, :3, 2]
+        r = p_e - frames[:-1, :3, 3]
+        jac = np.zeros((6, self.n))
+        lin = jac[:3].T
+        lin[:, 0] = z[:, 1] * r[:, 2] - z[:, 2] * r[:, 1]
+        lin[:, 1] = z[:, 2] * r[:, 0] - z[:, 0] * r[:, 2]
+        lin[:, 2] = z[:, 0] * r[:, 1] - z[:, 1] * r[:, 0]
+        prismatic = ~self.revolute
+        lin[prismatic] = z[prismatic]
+        jac[3:, self.rev_index] = z[self.rev_index].T
+        return jac
+
+    # ---------------------------------------------------------------- batched kernel
+    def walk(
+        self,
+        Q: FloatArray,
+        world0: FloatArray,
+        sink: Callable[[int, FloatArray, FloatArray, FloatArray, FloatArray], None] | None = None,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Run the chain for a chunk Q (M, n); return the endeffector's x, y, z axes and
+        origin as (3, M) world arrays.  ``sink(i, X, Y, Z, P)`` sees frame i = 0..n (the
+        arrays are reused afterwards: copy what must be kept)."""
+        M = Q.shape[0]
+        X, Y, Z, P = (np.empty((3, M)) for _ in range(4))
+        U, tmp = np.empty((3, M)), np.empty((3, M))
+        for col, arr in zip(range(4), (X, Y, Z, P)):
+            arr[:] = world0[:3, col : col + 1]
+        if sink is not None:
+            sink(0, X, Y, Z, P)
+        # cos/sin of every revolute angle at once, from tan of the half angle.
+        rev = self.rev_index
+        t = np.empty((len(rev), M))
+        np.multiply(Q.T[rev], 0.5, out=t)
+        t += self.half_th[rev, None]
+        np.tan(t, out=t)
+        w = t * t
+        w += 1.0
+        np.divide(2.0, w, out=w)
+        cos_all = w - 1.0
+        sin_all = np.multiply(t, w, out=t)
+        k = 0
+        for j in range(self.n):
+            if self.revolute[j]:
+                c, s = cos_all[k], sin_all[k]
+                k += 1
+            else:
+                c, s = self.ct_const[j], self.st_const[j]
+            if self.revolute[j] or s != 0.0:
+                # x' = c x + s y ;  u = -s x + c y   (rotation about the old z by θ)
+                np.multiply(X, s, out=tmp)
+                np.multiply(Y, c, out=U)
+                U -= tmp
+                X *= c
+                np.multiply(Y, s, out=tmp)
+                X += tmp
+                Y, U = U, Y
+            # translation along the old z by d, then along the new x by a
+            if self.revolute[j]:
+                if self.robot.dh_d[j] != 0.0:
+                    np.multiply(Z, self.robot.dh_d[j], out=tmp)
+                    P += tmp
+            else:
+                dq = Q[:, j] + self.robot.dh_d[j]
+                np.multiply(Z, dq, out=tmp)
+                P += tmp
+            if self.robot.dh_a[j] != 0.0:
+                np.multiply(X, self.robot.dh_a[j], out=tmp)
+                P += tmp
+            # rotation about the new x by α: y' = cα u + sα z ; z' = -sα u + cα z
+            kind = self.alpha_kind[j]
+            if kind == _ALPHA_PLUS90:
+                np.negative(Y, out=Y)
+                Y, Z = Z, Y
+            elif kind == _ALPHA_MINUS90:
+                np.negative(Z, out=Z)
+                Y, Z = Z, Y
+            elif kind == _ALPHA_PI:
+                np.negative(Y, out=Y)
+                np.negative(Z, out=Z)
+            elif kind == _ALPHA_GENERAL:
+                ca, sa = self.ca[j], self.sa[j]
+                np.multiply(Y, ca, out=U)
+                np.multiply(Z, sa, out=tmp)
+                U += tmp
+                Z *= ca
+                Y *= sa
+                Z -= Y
+                Y, U = U, Y
+            if sink is not None:
+                sink(j + 1, X, Y, Z, P)
+        return self._apply_tool(X, Y, Z, P)
+
+    def _apply_tool(
+        self, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        tool = self.tool
+        if self.tool_translates:
+            P = P + X * tool[0, 3] + Y * tool[1, 3] + Z * tool[2, 3]
+        if self.tool_rotates:
+            X, Y, Z = (X * tool[0, c] + Y * tool[1, c] + Z * tool[2, c] for c in range(3))
+        return X, Y, Z, P
+
+
+_MODELS: "weakref.WeakKeyDictionary[RobotParams, _ChainModel]" = weakref.WeakKeyDictionary()
+
+
+def _model(robot: RobotParams) -> _ChainModel:
+    model = _MODELS.get(robot)
+    if model is None:
+        model = _MODELS[robot] = _ChainModel(robot)
+    return model
+
+
+def _world0(robot: RobotParams, world_tf: HomogeneousTransform | ArrayLike | None) -> FloatArray:
+    if world_tf is None:
+        return robot.base_tf.mat
+    mat = world_tf.mat if isinstance(world_tf, HomogeneousTransform) else np.asarray(world_tf, dtype=float)
+    return mat @ robot.base_tf.mat
+
+
+def _store_columns(out: FloatArray, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray) -> None:
+    """Write (3, M) column arrays into ``out`` (M, 4, 4) (bottom row written by the caller)."""
+    for col, arr in enumerate((X, Y, Z, P)):
+        out[:, :3, col] = arr.T
+
+
+def forward_kinematics(
+    robot: RobotParams,
+    q: ArrayLike,
+    all_frames: bool = False,
+    world_tf: HomogeneousTransform | ArrayLike | None = None,
+) -> FloatArray:
+    """World pose of the endeffector for joint vector(s) q.
+
+    q of shape (n,) gives a (4, 4) pose; q of shape (N, n) gives (N, 4, 4), computed
+    chunk by chunk without a per-configuration Python loop.  With ``all_frames=True`` the
+    result holds frames 0..n followed by the endeffector: (n+2, 4, 4) or (N, n+2, 4, 4).
+    ``world_tf`` places the robot's base in the world (identity by default).
+
+    Raises ValueError if q does not have n values per configuration or holds NaN/inf.
+    """
+    Q = check_joint_vector(q, robot.n_dofs)
+    single = Q.ndim == 1
+    Q = np.ascontiguousarray(Q.reshape(-1, robot.n_dofs))
+    N, n = Q.shape[0], robot.n_dofs
+    model = _model(robot)
+    world0 = _world0(robot, world_tf)
+    if all_frames:
+        out = np.empty((N, n + 2, 4, 4))
+        out[:, :, 3, :] = (0.0, 0.0, 0.0, 1.0)
+        for s in range(0, N, CHUNK):
+            block = out[s : s + CHUNK]
+            ee = model.walk(Q[s : s + CHUNK], world0, lambda i, *cols: _store_columns(block[:, i], *cols))
+            _store_columns(block[:, n + 1], *ee)
+    else:
+        out = np.empty((N, 4, 4))
+        out[:, 3, :] = (0.0, 0.0, 0.0, 1.0)
+        for s in range(0, N, CHUNK):
+            _store_columns(out[s : s + CHUNK], *model.walk(Q[s : s + CHUNK], world0))
+    return out[0] if single else out
+
+
+def jacobian(
+    robot: RobotParams, q: ArrayLike, world_tf: HomogeneousTransform | ArrayLike | None = None
+) -> FloatArray:
+    """Geometric Jacobian of the endeffector (tool point included) in the world frame.
+
+    q of shape (n,) gives (6, n); (N, n) gives (N, 6, n), batched like
+    :func:`forward_kinematics`.  Rows are [linear velocity; angular velocity]: a revolute
+    column is [z × (p_e − p); z], a prismatic column [z; 0], with z and p the joint axis and
+    origin of the preceding frame.
+    """
+    Q = check_joint_vector(q, robot.n_dofs)
+    single = Q.ndim == 1
+    Q = np.ascontiguousarray(Q.reshape(-1, robot.n_dofs))
+    N, n = Q.shape[0], robot.n_dofs
+    model = _model(robot)
+    world0 = _world0(robot, world_tf)
+    out = np.empty((N, 6, n))
+    prismatic = np.flatnonzero(~model.revolute)
+    for s in range(0, N, CHUNK):
+        Qc = Q[s : s + CHUNK]
+        M = Qc.shape[0]
+        z = np.empty((n + 1, 3, M))
+        p = np.empty((n + 1, 3, M))
+
+        def keep(i: int, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray) -> None:
+            z[i] = Z
+            p[i] = P
+
+        p_e = model.walk(Qc, world0, keep)[3]
+        zj, r = z[:-1], p_e - p[:-1]  # joint axes and lever arms (n, 3, M)
+        jac = np.zeros((6, n, M))
+        np.multiply(zj[:, 1], r[:, 2], out=jac[0])
+        jac[0] -= zj[:, 2] * r[:, 1]
+        np.multiply(zj[:, 2], r[:, 0], out=jac[1])
+        jac[1] -= zj[:, 0] * r[:, 2]
+        np.multiply(zj[:, 0], r[:, 1], out=jac[2])
+        jac[2] -= zj[:, 1] * r[:, 0]
+        jac[:3, prismatic] = zj[prismatic].transpose(1, 0, 2)
+        jac[3:, model.rev_index] = zj[model.rev_index].transpose(1, 0, 2)
+        out[s : s + M] = jac.transpose(2, 0, 1)
+    return out[0] if single else out
+
+
+def manipulability(robot: RobotParams, q: ArrayLike, jac: ArrayLike | None = None) -> FloatArray | float:
+    """Yoshikawa's manipulability √det(J Jᵀ) at q (n,) or for each row of q (N, n).
+
+    Arms with six or more joints use the full 6×n Jacobian; arms with fewer use the
+    position rows only (√det(J_v J_vᵀ), or √det(J_vᵀ J_v) below three joints).  A
+    precomputed Jacobian of matching shape may be passed as ``jac``.
+    """
+    J = jacobian(robot, q) if jac is None else np.asarray(jac, dtype=float)
+    n = robot.n_dofs
+    if n < 6:
+        J = J[..., :3, :]
+    JJt = J @ np.swapaxes(J, -1, -2) if J.shape[-2] <= n else np.swapaxes(J, -1, -2) @ J
+    m = np.sqrt(np.clip(np.linalg.det(JJt), 0.0, None))
+    return float(m) if m.ndim == 0 else m
+
+
+class Kinematics:
+    """Forward and differential kinematics of one robot at one joint state.
+
+    After :meth:`update` the attributes hold, all in the world frame (metres, radians):
+
+    * ``h_tf``: list of n+1 :class:`HomogeneousTransform`, frames 0..n;
+    * ``frames``: the same as an (n+1, 4, 4) array;
+    * ``endeff_tf``: endeffector (tool) frame = frame n · tool;
+    * ``link_com``: (n_links+1, 3) centres of mass, ``link_com[0]`` at the base (frame 0
+      origin), ``link_com[i]`` at fraction ``link_com_frac[i-1]`` from frame i-1 to frame i;
+    * ``jacobian``: (6, n) geometric Jacobian of the endeffector;
+    * ``link_vel``: (n+1, 6) twist [v; ω] of each frame's origin (frame 0 is fixed);
+    * ``link_com_vel``: (n_links+1, 3) linear velocity of each COM;
+    * ``endeff_twist``: (6,) twist [v; ω] of the endeffector = ``jacobian @ qd``.
+    """
+
+    def __init__(self, robot_params: RobotParams) -> None:
+        self.robot = robot_params
+        self._model = _model(robot_params)
+        self.update(self._home_state())
+
+    def _home_state(self) -> JointState:
+        state = JointState(self.robot.jtype)
+        state.th[:], state.d[:] = self._model.th_d(np.asarray(self.robot.q_home))
+        return state
+
+    def update(self, joint_state: JointState, base_tf: HomogeneousTransform | None = None) -> None:
+        """Recompute every frame, COM, the Jacobian and the velocities from scratch.
+
+        ``joint_state`` supplies full DH θ and d and their rates; ``base_tf`` places the
+        robot's base in the world (identity when None).
+        """
+        model = self._model
+        frames = model.frames(joint_state.th, joint_state.d, _world0(self.robot, base_tf))
+        endeff = frames[-1] @ model.tool
+        origins = frames[:, :3, 3]
+        com = np.empty((self.robot.n_links + 1, 3))
+        com[0] = origins[0]
+        com[1:] = origins[:-1] + self.robot.link_com_frac[:, None] * (origins[1:] - origins[:-1])
+        jac = model.jacobian(frames, endeff[:3, 3])
+        qd = np.where(model.revolute, joint_state.thd, joint_state.dd)
+
+        # Velocities of every frame by accumulating joint contributions along the chain:
+        # ω_i = Σ_{j≤i} ω_j,  v_i = Σ_{j≤i} (ω_j × (p_i − p_{j-1}) + v_j^prismatic).
+        z = frames[:-1, :3, 2]
+        w_joint = z * np.where(model.revolute, qd, 0.0)[:, None]
+        v_joint = z * np.where(model.revolute, 0.0, qd)[:, None] - np.cross(w_joint, origins[:-1])
+        link_vel = np.zeros((self.robot.n_dofs + 1, 6))
+        link_vel[1:, 3:] = np.cumsum(w_joint, axis=0)
+        link_vel[1:, :3] = np.cross(link_vel[1:, 3:], origins[1:]) + np.cumsum(v_joint, axis=0)
+        com_vel = np.zeros_like(com)
+        com_vel[1:] = link_vel[1:, :3] + np.cross(link_vel[1:, 3:], com[1:] - origins[1:])
+
+        self.frames = frames
+        self.h_tf = [HomogeneousTransform.wrap(f) for f in frames]
+        self.endeff_tf = HomogeneousTransform.wrap(endeff)
+        self.link_com = com
+        self.jacobian = jac
+        self.link_vel = link_vel
+        self.link_com_vel = com_vel
+        self.endeff_twist = jac @ qd
+
+
+# ------------------------------------------------------------------ workspace
+
+
+def sampling_bounds(robot: RobotParams) -> tuple[FloatArray, FloatArray]:
+    """Finite per-joint sampling ranges: the joint limits, with unlimited revolute joints
+    sampled over [−π, π].  ValueError naming the joint if a prismatic joint has no limits."""
+    lo, hi = np.array(robot.q_min), np.array(robot.q_max)
+    for i in np.flatnonzero(~np.isfinite(lo) | ~np.isfinite(hi)):
+        if robot.jtype[i] != JTYPE_REVOLUTE:
+            raise ValueError(f"{robot.name}: prismatic joint {i + 1} has no limits; cannot sample its range")
+        lo[i], hi[i] = max(lo[i], -np.pi), min(hi[i], np.pi)
+    return lo, hi
+
+
+def random_configurations(robot: RobotParams, n_samples: int, rng: np.random.Generator) -> FloatArray:
+    """(n_samples, n) joint vectors drawn uniformly inside :func:`sampling_bounds`."""
+    lo, hi = sampling_bounds(robot)
+    return lo + (hi - lo) * rng.random((n_samples, robot.n_dofs))
+
+
+def workspace_points(
+    robot: RobotParams, n_samples: int, seed: int | None = None
+) -> tuple[FloatArray, FloatArray]:
+    """Endeffector positions (n_samples, 3) [m, world] of uniformly sampled in-limit
+    configurations, and the manipulability (n_samples,) of each (see :func:`manipulability`)."""
+    if n_samples < 1:
+        raise ValueError(f"n_samples must be a positive integer, got {n_samples}")
+    Q = random_configurations(robot, int(n_samples), np.random.default_rng(seed))
+    points = np.empty((Q.shape[0], 3))
+    manip = np.empty(Q.shape[0])
+    for s in range(0, Q.shape[0], CHUNK * 8):
+        chunk = Q[s : s + CHUNK * 8]
+        jac = jacobian(robot, chunk)
+        points[s : s + len(chunk)] = forward_kinematics(robot, chunk)[:, :3, 3]
+        manip[s : s + len(chunk)] = manipulability(robot, chunk, jac)
+    return points, manip
+
+
+# ------------------------------------------------------------------ inverse kinematics
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Outcome of :func:`solve_ik`.
+
+    ``q`` is the best joint vector found (never NaN), ``success`` whether it meets the
+    tolerances, ``iterations`` the total damped-least-squares steps over all restarts,
+    ``restarts`` how many random restarts were used, ``pos_err`` [m] and ``rot_err`` [rad]
+    the remaining errors, ``position_only`` whether orientation was ignored, and
+    ``message`` a one-line explanation.
+    """
+
+    q: FloatArray
+    success: bool
+    iterations: int
+    restarts: int
+    pos_err: float
+    rot_err: float
+    position_only: bool
+    message: str
+
+
+def ik_position_only_required(robot: RobotParams) -> bool:
+    """True for arms with fewer than six joints, which cannot reach an arbitrary pose."""
+    return robot.n_dofs < 6
+
+
+def _check_tolerance(name: str, value: float) -> float:
+    if not (np.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return float(value)
+
+
+def _target_matrix(target: HomogeneousTransform | ArrayLike) -> FloatArray:
+    mat = target.mat if isinstance(target, HomogeneousTransform) else np.asarray(target, dtype=float)
+    if mat.shape != (4, 4):
+        raise ValueError(f"IK target must be a 4x4 transform, got shape {mat.shape}")
+    if not is_rigid_transform(mat):
+        raise ValueError(
+            "IK target is not a rigid transform (needs finite values, an orthonormal rotation "
+            f"with det +1 and bottom row [0 0 0 1]):\n{mat}"
+        )
+    return mat
+
+
+class _IKProblem:
+    """Pose error, Jacobian and limits of one IK query (single configuration)."""
+
+    # Levenberg–Marquardt damping schedule
+    LAMBDA_INIT = 1e-3
+    LAMBDA_MIN = 1e-9
+    LAMBDA_MAX = 1e6
+    LAMBDA_DOWN = 0.2
+    LAMBDA_UP = 10.0
+    MAX_STEP = 0.6  # largest joint step per iteration [rad or m], keeps far starts stable
+    STALL_RATIO = 0.999  # an iteration that keeps more of the cost than this makes no progress
+    STALL_ITERS = 6  # this many in a row: restart from elsewhere
+    NULLSPACE_GAIN = 0.05  # pull of redundant joints toward home per iteration
+
+    def __init__(self, robot: RobotParams, target: FloatArray, position_only: bool, lo: FloatArray, hi: FloatArray):
+        self.robot = robot
+        self.model = _model(robot)
+        self.target = target
+        self.position_only = position_only
+        self.lo, self.hi = lo, hi
+        self.rows = slice(0, 3) if position_only else slice(0, 6)
+        self.task_dim = 3 if position_only else 6
+        self.redundant = robot.n_dofs > self.task_dim
+        self.world0 = robot.base_tf.mat
+
+    def evaluate(self, q: FloatArray) -> tuple[FloatArray, FloatArray, float, float]:
+        """Error vector (task_dim,), Jacobian (task_dim, n), position and rotation errors."""
+        frames = self.model.frames(*self.model.th_d(q), self.world0)
+        ee = frames[-1] @ self.model.tool
+        dp = self.target[:3, 3] - ee[:3, 3]
+        dr = rotation_log(self.target[:3, :3] @ ee[:3, :3].T)
+        jac = self.model.jacobian(frames, ee[:3, 3])[self.rows]
+        err = dp if self.position_only else np.concatenate([dp, dr])
+        return err, jac, float(np.linalg.norm(dp)), float(np.linalg.norm(dr))
+
+    def clip(self, q: FloatArray) -> FloatArray:
+        return np.clip(q, self.lo, self.hi)
+
+    def step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float) -> FloatArray:
+        """Damped least-squares step Jᵀ(JJᵀ + λI)⁻¹e, plus a null-space pull toward home
+        for redundant arms."""
+        gram = jac @ jac.T
+        gram[np.diag_indices_from(gram)] += lam
+        if self.redundant:
+            sol = np.linalg.solve(gram, np.column_stack([err, jac]))
+            dq = jac.T @ sol[:, 0]
+            null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
+            dq += null @ (self.NULLSPACE_GAIN * (self.robot.q_home - q))
+        else:
+            dq = jac.T @ np.linalg.solve(gram, err)
+        largest = np.max(np.abs(dq))
+        if largest > self.MAX_STEP:
+            dq *= self.MAX_STEP / largest
+        return dq
+
+
+def solve_ik(
+    robot_params: RobotParams,
+    target: HomogeneousTransform | ArrayLike,
+    q0: ArrayLike | None = None,
+    *,
+    position_only: bool = False,
+    tol_pos: float = 1e-6,
+    tol_rot: float = 1e-6,
+    max_iter: int = 300,
+    max_restarts: int = 30,
+    respect_limits: bool = True,
+    seed: int | None = 0,
+) -> IKResult:
+    """Joint vector that puts the endeffector at ``target`` (world frame, 4×4 or
+    :class:`HomogeneousTransform`), by damped least squares (Levenberg–Marquardt).
+
+    Starts at ``q0`` (home when None).  Each iteration solves ``(JJᵀ + λI) y = e`` for the
+    pose error e = [p* − p; log(R* Rᵀ)] and steps ``Δq = Jᵀy``, adapting λ (smaller after a
+    step that lowers the error, larger after one that does not).  With ``respect_limits``
+    every iterate is clipped into the joint limits.  A start that stalls is abandoned for a
+    random in-limit configuration, up to ``max_restarts`` times, within ``max_iter``
+    iterations in total.  Redundant arms add a null-space pull toward home.  Arms with
+    fewer than six joints always solve position only (``position_only`` in the result
+    says so, with a message).
+
+    Success means ``pos_err <= tol_pos`` and, unless position only, ``rot_err <= tol_rot``.
+    A failure is a result with ``success=False`` holding the best configuration found.
+    Raises ValueError for a target that is not a rigid transform, a wrong-length or
+    non-finite ``q0``, or non-positive tolerances.
+    """
+    robot = robot_params
+    tmat = _target_matrix(target)
+    tol_pos = _check_tolerance("tol_pos", tol_pos)
+    tol_rot = _check_tolerance("tol_rot", tol_rot)
+    if max_iter < 1 or max_restarts < 0:
+        raise ValueError(f"max_iter must be >= 1 and max_restarts >= 0, got {max_iter}, {max_restarts}")
+    q = check_joint_vector(robot.q_home if q0 is None else q0, robot.n_dofs, "q0")
+    if q.ndim != 1:
+        raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q.shape}")
+
+    message = ""
+    if not position_only and ik_position_only_required(robot):
+        position_only = True
+        message = f"{robot.name} has {robot.n_dofs} joints (< 6): solved for position only. "
+    if respect_limits:
+        lo, hi = np.array(robot.q_min), np.array(robot.q_max)
+    else:
+        lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
+    problem = _IKProblem(robot, tmat, position_only, lo, hi)
+    rng = np.random.default_rng(seed)
+
+    def converged(pos_err: float, rot_err: float) -> bool:
+        return pos_err <= tol_pos and (position_only or rot_err <= tol_rot)
+
+    q = problem.clip(q)
+    err, jac, pos_err, rot_err = problem.evaluate(q)
+    cost = float(err @ err)
+    best = (cost, q, pos_err, rot_err)
+    lam, stalled, restarts, iterations = problem.LAMBDA_INIT, 0, 0, 0
+    while iterations < max_iter and not converged(pos_err, rot_err):
+        iterations += 1
+        q_new = problem.clip(q + problem.step(q, err, jac, lam))
+        err_new, jac_new, pos_new, rot_new = problem.evaluate(q_new)
+        cost_new = float(err_new @ err_new)
+        progress = cost_new < cost * problem.STALL_RATIO
+        if cost_new < cost:
+            q, err, jac, pos_err, rot_err, cost = q_new, err_new, jac_new, pos_new, rot_new, cost_new
+            lam = max(lam * problem.LAMBDA_DOWN, problem.LAMBDA_MIN)
+            if cost < best[0]:
+                best = (cost, q, pos_err, rot_err)
+        else:
+            lam = min(lam * problem.LAMBDA_UP, problem.LAMBDA_MAX)
+        stalled = 0 if progress else stalled + 1
+        if stalled >= problem.STALL_ITERS and restarts < max_restarts and not converged(pos_err, rot_err):
+            restarts += 1
+            q = random_configurations(robot, 1, rng)[0] if respect_limits else q + rng.normal(size=q.shape)
+            q = problem.clip(q)
+            err, jac, pos_err, rot_err = problem.evaluate(q)
+            cost, lam, stalled = float(err @ err), problem.LAMBDA_INIT, 0
+    _, q_best, pos_best, rot_best = best
+    success = converged(pos_best, rot_best)
+    if success:
+        message += f"converged in {iterations} iterations ({restarts} restarts)"
+    else:
+        message += (
+            f"did not converge in {iterations} iterations ({restarts} restarts): "
+            f"position error {pos_best:.3g} m, rotation error {rot_best:.3g} rad"
+        )
+    return IKResult(
+        q=q_best.copy(),
+        success=success,
+        iterations=iterations,
+        restarts=restarts,
+        pos_err=pos_best,
+        rot_err=rot_best,
+        position_only=position_only,
+        message=message,
+    )
+
+
+def diff_ik_velocity(
+    robot_params: RobotParams, q: ArrayLike, twist_des: ArrayLike, damping: float = 1e-2
+) -> FloatArray:
+    """Joint velocities (n,) that best produce the endeffector twist ``twist_des``.
+
+    ``twist_des`` is (6,) [v (m/s); ω (rad/s)] or (3,) linear velocity only, in the world
+    frame.  Uses the damped pseudo-inverse ``Jᵀ(JJᵀ + damping² I)⁻¹``, which stays bounded
+    near singularities at the cost of a small tracking error there.
+    """
+    v = np.asarray(twist_des, dtype=float)
+    if v.shape not in ((6,), (3,)) or not np.isfinite(v).all():
+        raise ValueError(f"twist_des must be a finite (6,) or (3,) vector, got {v!r}")
+    jac = jacobian(robot_params, q)[: v.shape[0]]
+    gram = jac @ jac.T
+    gram[np.diag_indices_from(gram)] += damping**2
+    return jac.T @ np.linalg.solve(gram, v)

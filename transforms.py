@@ -1,0 +1,270 @@
+"""SE(3) and SO(3) maths for the simulator: homogeneous transforms, rotations,
+the standard Denavit–Hartenberg transform and angle-axis helpers.
+
+Conventions
+-----------
+* Units are SI: metres and radians.
+* A homogeneous transform ``T_a_b`` maps coordinates in frame *b* to frame *a*:
+  ``p_a = T_a_b @ p_b``.  Composition reads left to right along the chain:
+  ``T_w_c = T_w_b @ T_b_c``.
+* Roll-pitch-yaw follows URDF: ``R = Rz(yaw) @ Ry(pitch) @ Rx(roll)``.
+* Standard DH: ``A = Rz(theta) @ Tz(d) @ Tx(a) @ Rx(alpha)``.
+
+This module knows nothing about robots or OpenGL.
+"""
+from __future__ import annotations
+
+from typing import Union, overload
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+FloatArray = NDArray[np.float64]
+
+#: Below this norm a direction vector is treated as zero (metres or unitless).
+EPS_NORM = 1e-12
+
+
+def rot_x(angle: float) -> FloatArray:
+    """Rotation matrix (3, 3) about x by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_y(angle: float) -> FloatArray:
+    """Rotation matrix (3, 3) about y by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(angle: float) -> FloatArray:
+    """Rotation matrix (3, 3) about z by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def rot_from_rpy(rpy: ArrayLike) -> FloatArray:
+    """Rotation (3, 3) from roll, pitch, yaw in radians: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
+    roll, pitch, yaw = np.asarray(rpy, dtype=float).reshape(3)
+    return rot_z(yaw) @ rot_y(pitch) @ rot_x(roll)
+
+
+def rpy_from_rot(R: ArrayLike) -> tuple[float, float, float]:
+    """Roll, pitch, yaw in radians of a rotation matrix (inverse of :func:`rot_from_rpy`).
+
+    At the gimbal lock (pitch = ±90°) roll is set to 0 and yaw carries the rotation.
+    """
+    R = np.asarray(R, dtype=float)
+    sp = -R[2, 0]
+    pitch = float(np.arcsin(np.clip(sp, -1.0, 1.0)))
+    if abs(sp) < 1.0 - 1e-12:
+        roll = float(np.arctan2(R[2, 1], R[2, 2]))
+        yaw = float(np.arctan2(R[1, 0], R[0, 0]))
+    else:
+        roll = 0.0
+        yaw = float(np.arctan2(-R[0, 1], R[1, 1]))
+    return roll, pitch, yaw
+
+
+def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
+    """Rotation (3, 3) of ``angle`` radians about ``axis`` (normalised here; Rodrigues)."""
+    k = np.asarray(axis, dtype=float).reshape(3)
+    norm = np.linalg.norm(k)
+    if norm < EPS_NORM:
+        return np.eye(3)
+    k = k / norm
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def rotation_log(R: ArrayLike) -> FloatArray:
+    """Rotation vector ``angle * axis`` (3,) of a rotation matrix, robust near 0 and π.
+
+    The result has norm in [0, π]; it is the orientation error used by inverse kinematics.
+    """
+    R = np.asarray(R, dtype=float)
+    cos_angle = np.clip((np.trace(R) - 1.0) * 0.5, -1.0, 1.0)
+    angle = np.arccos(cos_angle)
+    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    if angle < 1e-6:
+        return 0.5 * w  # sin(angle) ≈ angle
+    if np.pi - angle > 1e-4:
+        return angle / (2.0 * np.sin(angle)) * w
+    # Near π: axis from the diagonal of (R + I) / 2 = k kᵀ, sign from the skew part.
+    B = 0.5 * (R + np.eye(3))
+    i = int(np.argmax(np.diag(B)))
+    k = B[:, i] / np.sqrt(max(B[i, i], EPS_NORM))
+    if np.dot(k, w) < 0.0:
+        k = -k
+    return angle * k / np.linalg.norm(k)
+
+
+def angle_axis_from_vec_dir(vec: ArrayLike, dir: ArrayLike) -> tuple[float, FloatArray]:
+    """Angle (radians) and unit axis (3,) of the rotation that turns ``vec`` onto ``dir``.
+
+    Used to orient a drawable modelled along ``vec`` (e.g. a cylinder along z) so that it
+    points along ``dir``.  Every input gives a valid rotation, never NaN:
+
+    * ``dir`` parallel to ``vec``: angle 0 about z (identity);
+    * antiparallel: angle π about an axis perpendicular to ``vec``;
+    * ``dir`` (or ``vec``) of zero length: identity (angle 0 about z).
+    """
+    v = np.asarray(vec, dtype=float).reshape(3)
+    d = np.asarray(dir, dtype=float).reshape(3)
+    nv, nd = np.linalg.norm(v), np.linalg.norm(d)
+    z_axis = np.array([0.0, 0.0, 1.0])
+    if nv < EPS_NORM or nd < EPS_NORM or not (np.isfinite(nv) and np.isfinite(nd)):
+        return 0.0, z_axis
+    v, d = v / nv, d / nd
+    axis = np.cross(v, d)
+    s = np.linalg.norm(axis)
+    c = float(np.clip(np.dot(v, d), -1.0, 1.0))
+    if s < 1e-9:
+        if c > 0.0:
+            return 0.0, z_axis
+        # Antiparallel: any axis perpendicular to v; pick the one least aligned with v.
+        helper = np.eye(3)[int(np.argmin(np.abs(v)))]
+        perp = np.cross(v, helper)
+        return float(np.pi), perp / np.linalg.norm(perp)
+    return float(np.arctan2(s, c)), axis / s
+
+
+def dh_transform(theta: ArrayLike, d: ArrayLike, a: ArrayLike, alpha: ArrayLike) -> FloatArray:
+    """Standard DH transform ``A = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` from frame i-1 to frame i.
+
+    Arguments are scalars or arrays that broadcast together (radians and metres);
+    the result has shape ``broadcast_shape + (4, 4)``: (4, 4) for scalars, (N, 4, 4) for
+    arrays of length N.
+    """
+    theta, d, a, alpha = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (theta, d, a, alpha))
+    )
+    ct, st = np.cos(theta), np.sin(theta)
+    ca, sa = np.cos(alpha), np.sin(alpha)
+    out = np.zeros(theta.shape + (4, 4))
+    out[..., 0, 0] = ct
+    out[..., 0, 1] = -st * ca
+    out[..., 0, 2] = st * sa
+    out[..., 0, 3] = a * ct
+    out[..., 1, 0] = st
+    out[..., 1, 1] = ct * ca
+    out[..., 1, 2] = -ct * sa
+    out[..., 1, 3] = a * st
+    out[..., 2, 1] = sa
+    out[..., 2, 2] = ca
+    out[..., 2, 3] = d
+    out[..., 3, 3] = 1.0
+    return out
+
+
+def is_rigid_transform(mat: ArrayLike, tol: float = 1e-6) -> bool:
+    """True if ``mat`` is a finite (4, 4) matrix with an orthonormal, det +1 rotation
+    block (to ``tol``) and bottom row [0, 0, 0, 1]."""
+    m = np.asarray(mat, dtype=float)
+    if m.shape != (4, 4) or not np.all(np.isfinite(m)):
+        return False
+    R = m[:3, :3]
+    return bool(
+        np.allclose(R.T @ R, np.eye(3), atol=tol)
+        and abs(np.linalg.det(R) - 1.0) < tol
+        and np.allclose(m[3], [0.0, 0.0, 0.0, 1.0], atol=tol)
+    )
+
+
+class HomogeneousTransform:
+    """A rigid transform as a 4×4 matrix ``mat`` (rotation ``R``, translation ``t`` in metres).
+
+    ``T @ T2`` composes, ``T @ p`` maps a point (3,) and ``T @ P`` an (N, 3) array of points.
+    """
+
+    __slots__ = ("mat",)
+
+    def __init__(self, mat: ArrayLike | None = None) -> None:
+        if mat is None:
+            self.mat = np.eye(4)
+        else:
+            m = np.array(mat, dtype=float)
+            if m.shape != (4, 4):
+                raise ValueError(f"HomogeneousTransform needs a 4x4 matrix, got shape {m.shape}")
+            self.mat = m
+
+    @classmethod
+    def wrap(cls, mat: FloatArray) -> "HomogeneousTransform":
+        """Transform sharing ``mat`` (a float64 (4, 4) array, not copied or checked).
+
+        For hot paths that have just computed ``mat`` and hand it over.
+        """
+        obj = cls.__new__(cls)
+        obj.mat = mat
+        return obj
+
+    @classmethod
+    def from_rt(cls, R: ArrayLike | None = None, t: ArrayLike | None = None) -> "HomogeneousTransform":
+        """Transform from a rotation (3, 3) and a translation (3,) in metres."""
+        m = np.eye(4)
+        if R is not None:
+            m[:3, :3] = np.asarray(R, dtype=float)
+        if t is not None:
+            m[:3, 3] = np.asarray(t, dtype=float).reshape(3)
+        return cls(m)
+
+    @classmethod
+    def from_xyz_rpy(cls, xyz: ArrayLike, rpy: ArrayLike) -> "HomogeneousTransform":
+        """Transform from a translation (metres) and URDF roll-pitch-yaw (radians)."""
+        return cls.from_rt(rot_from_rpy(rpy), xyz)
+
+    def R(self) -> FloatArray:
+        """Rotation block (3, 3) (a view)."""
+        return self.mat[:3, :3]
+
+    def t(self) -> FloatArray:
+        """Translation (3,) in metres (a view)."""
+        return self.mat[:3, 3]
+
+    def Rx(self) -> FloatArray:
+        """x axis of the frame expressed in the parent frame (3,)."""
+        return self.mat[:3, 0]
+
+    def Ry(self) -> FloatArray:
+        """y axis of the frame expressed in the parent frame (3,)."""
+        return self.mat[:3, 1]
+
+    def Rz(self) -> FloatArray:
+        """z axis of the frame expressed in the parent frame (3,)."""
+        return self.mat[:3, 2]
+
+    def rpy(self) -> tuple[float, float, float]:
+        """URDF roll, pitch, yaw (radians) of the rotation."""
+        return rpy_from_rot(self.R())
+
+    def inv(self) -> "HomogeneousTransform":
+        """Inverse transform, computed as ``[Rᵀ, −Rᵀ t]`` (exact for rigid transforms)."""
+        Rt = self.R().T
+        m = np.eye(4)
+        m[:3, :3] = Rt
+        m[:3, 3] = -Rt @ self.t()
+        return HomogeneousTransform(m)
+
+    @overload
+    def __matmul__(self, other: "HomogeneousTransform") -> "HomogeneousTransform": ...
+    @overload
+    def __matmul__(self, other: ArrayLike) -> FloatArray: ...
+
+    def __matmul__(
+        self, other: Union["HomogeneousTransform", ArrayLike]
+    ) -> Union["HomogeneousTransform", FloatArray]:
+        if isinstance(other, HomogeneousTransform):
+            return HomogeneousTransform(self.mat @ other.mat)
+        pts = np.asarray(other, dtype=float)
+        if pts.shape == (4, 4):
+            return HomogeneousTransform(self.mat @ pts)
+        if pts.shape == (3,):
+            return self.R() @ pts + self.t()
+        if pts.ndim == 2 and pts.shape[1] == 3:
+            return pts @ self.R().T + self.t()
+        raise ValueError(
+            f"HomogeneousTransform applies to a transform, a point (3,) or points (N, 3); got shape {pts.shape}"
+        )
+
+    def __repr__(self) -> str:
+        return f"HomogeneousTransform(\n{np.array2string(self.mat, precision=4, suppress_small=True)})"
