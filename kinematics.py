@@ -24,6 +24,7 @@ This module imports neither OpenGL nor Qt.
 """
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 from typing import Callable
@@ -45,6 +46,14 @@ CHUNK = 2048
 # Twist angle classes: each gets its own cheap update of the (y, z) columns.
 _ALPHA_ZERO, _ALPHA_PLUS90, _ALPHA_MINUS90, _ALPHA_PI, _ALPHA_GENERAL = range(5)
 _ANGLE_TOL = 1e-12
+
+
+_NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])
+
+
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Row-wise cross product of (k, 3) arrays (np.cross costs 3x more at these sizes)."""
+    return a[:, _NEXT] * b[:, _PREV] - a[:, _PREV] * b[:, _NEXT]
 
 
 def _alpha_kind(alpha: float) -> int:
@@ -84,6 +93,14 @@ class _ChainModel:
         basis[:, 2, 0, 1], basis[:, 2, 0, 2] = -ca, sa
         basis[:, 3, 2, 3] = 1.0
         self.basis = basis.reshape(self.n, 4, 16)
+        # link COMs = com_weights @ frame origins: link_com[0] at frame 0, link_com[i] at
+        # fraction f_i from frame i-1 to frame i.
+        weights = np.zeros((self.n + 1, self.n + 1))
+        weights[0, 0] = 1.0
+        rows = np.arange(1, self.n + 1)
+        weights[rows, rows - 1] = 1.0 - robot.link_com_frac
+        weights[rows, rows] = robot.link_com_frac
+        self.com_weights = weights
 
     # ---------------------------------------------------------------- single configuration
     def frames(self, th: FloatArray, d: FloatArray, world0: FloatArray) -> FloatArray:
@@ -108,16 +125,8 @@ class _ChainModel:
     def jacobian(self, frames: FloatArray, p_e: FloatArray) -> FloatArray:
         """Geometric Jacobian (6, n) at world point ``p_e`` from world frames 0..n."""
         z = frames[:-1, :3, 2]
-        r = p_e - frames[:-1, :3, 3]
-        jac = np.zeros((6, self.n))
-        lin = jac[:3].T
-        lin[:, 0] = z[:, 1] * r[:, 2] - z[:, 2] * r[:, 1]
-        lin[:, 1] = z[:, 2] * r[:, 0] - z[:, 0] * r[:, 2]
-        lin[:, 2] = z[:, 0] * r[:, 1] - z[:, 1] * r[:, 0]
-        prismatic = ~self.revolute
-        lin[prismatic] = z[prismatic]
-        jac[3:, self.rev_index] = z[self.rev_index].T
-        return jac
+        lin = np.where(self.revolute[:, None], _cross(z, p_e - frames[:-1, :3, 3]), z)
+        return np.concatenate([lin.T, (z * self.revolute[:, None]).T])
 
     # ---------------------------------------------------------------- batched kernel
     def walk(
@@ -333,8 +342,8 @@ class Kinematics:
 
     After :meth:`update` the attributes hold, all in the world frame (metres, radians):
 
-    * ``h_tf``: list of n+1 :class:`HomogeneousTransform`, frames 0..n;
-    * ``frames``: the same as an (n+1, 4, 4) array;
+    * ``frames``: (n+1, 4, 4) array of frames 0..n;
+    * ``h_tf``: the same frames as a list of n+1 :class:`HomogeneousTransform`;
     * ``endeff_tf``: endeffector (tool) frame = frame n · tool;
     * ``link_com``: (n_links+1, 3) centres of mass, ``link_com[0]`` at the base (frame 0
       origin), ``link_com[i]`` at fraction ``link_com_frac[i-1]`` from frame i-1 to frame i;
@@ -342,20 +351,21 @@ class Kinematics:
     * ``link_vel``: (n+1, 6) twist [v; ω] of each frame's origin (frame 0 is fixed);
     * ``link_com_vel``: (n_links+1, 3) linear velocity of each COM;
     * ``endeff_twist``: (6,) twist [v; ω] of the endeffector = ``jacobian @ qd``.
+
+    ``h_tf`` and the three velocity attributes are derived on first access after each
+    update (from the joint rates captured by that update), so a caller that needs only
+    poses does not pay for them.
     """
 
     def __init__(self, robot_params: RobotParams) -> None:
         self.robot = robot_params
         self._model = _model(robot_params)
-        self.update(self._home_state())
-
-    def _home_state(self) -> JointState:
-        state = JointState(self.robot.jtype)
-        state.th[:], state.d[:] = self._model.th_d(np.asarray(self.robot.q_home))
-        return state
+        home = JointState(robot_params.jtype)
+        home.th[:], home.d[:] = self._model.th_d(np.asarray(robot_params.q_home))
+        self.update(home)
 
     def update(self, joint_state: JointState, base_tf: HomogeneousTransform | None = None) -> None:
-        """Recompute every frame, COM, the Jacobian and the velocities from scratch.
+        """Recompute the frames, COMs and Jacobian from scratch (velocities on demand).
 
         ``joint_state`` supplies full DH θ and d and their rates; ``base_tf`` places the
         robot's base in the world (identity when None).
@@ -363,32 +373,58 @@ class Kinematics:
         model = self._model
         frames = model.frames(joint_state.th, joint_state.d, _world0(self.robot, base_tf))
         endeff = frames[-1] @ model.tool
-        origins = frames[:, :3, 3]
-        com = np.empty((self.robot.n_links + 1, 3))
-        com[0] = origins[0]
-        com[1:] = origins[:-1] + self.robot.link_com_frac[:, None] * (origins[1:] - origins[:-1])
-        jac = model.jacobian(frames, endeff[:3, 3])
-        qd = np.where(model.revolute, joint_state.thd, joint_state.dd)
-
-        # Velocities of every frame by accumulating joint contributions along the chain:
-        # ω_i = Σ_{j≤i} ω_j,  v_i = Σ_{j≤i} (ω_j × (p_i − p_{j-1}) + v_j^prismatic).
-        z = frames[:-1, :3, 2]
-        w_joint = z * np.where(model.revolute, qd, 0.0)[:, None]
-        v_joint = z * np.where(model.revolute, 0.0, qd)[:, None] - np.cross(w_joint, origins[:-1])
-        link_vel = np.zeros((self.robot.n_dofs + 1, 6))
-        link_vel[1:, 3:] = np.cumsum(w_joint, axis=0)
-        link_vel[1:, :3] = np.cross(link_vel[1:, 3:], origins[1:]) + np.cumsum(v_joint, axis=0)
-        com_vel = np.zeros_like(com)
-        com_vel[1:] = link_vel[1:, :3] + np.cross(link_vel[1:, 3:], com[1:] - origins[1:])
-
         self.frames = frames
-        self.h_tf = [HomogeneousTransform.wrap(f) for f in frames]
         self.endeff_tf = HomogeneousTransform.wrap(endeff)
-        self.link_com = com
-        self.jacobian = jac
-        self.link_vel = link_vel
-        self.link_com_vel = com_vel
-        self.endeff_twist = jac @ qd
+        self.link_com = model.com_weights @ frames[:, :3, 3]
+        self.jacobian = model.jacobian(frames, endeff[:3, 3])
+        self._qd = np.where(model.revolute, joint_state.thd, joint_state.dd)
+        self._h_tf: list[HomogeneousTransform] | None = None
+        self._velocities: tuple[FloatArray, FloatArray, FloatArray] | None = None
+
+    @property
+    def h_tf(self) -> list[HomogeneousTransform]:
+        """World frames 0..n as transforms (views of ``frames``)."""
+        if self._h_tf is None:
+            self._h_tf = [HomogeneousTransform.wrap(f) for f in self.frames]
+        return self._h_tf
+
+    @property
+    def link_vel(self) -> FloatArray:
+        """(n+1, 6) twist [v (m/s); ω (rad/s)] of each frame's origin, world frame."""
+        return self._derive_velocities()[0]
+
+    @property
+    def link_com_vel(self) -> FloatArray:
+        """(n_links+1, 3) linear velocity (m/s) of each link COM, world frame."""
+        return self._derive_velocities()[1]
+
+    @property
+    def endeff_twist(self) -> FloatArray:
+        """(6,) endeffector twist [v (m/s); ω (rad/s)] in the world frame (= J q̇)."""
+        return self._derive_velocities()[2]
+
+    def _derive_velocities(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        # Accumulate joint contributions along the chain: ω_i = Σ_{j≤i} ω_j and, for any
+        # point x moving with link i, v(x) = Σ_{j≤i} (ω_j × (x − p_{j-1}) + v_j^prismatic)
+        # = ω_i × x + c_i with c_i = Σ_{j≤i} (v_j^prismatic − ω_j × p_{j-1}).
+        if self._velocities is None:
+            n, qd, revolute = self.robot.n_dofs, self._qd, self._model.revolute
+            origins, z = self.frames[:, :3, 3], self.frames[:-1, :3, 2]
+            qd_revolute = np.where(revolute, qd, 0.0)
+            w_joint = z * qd_revolute[:, None]
+            omega = np.cumsum(w_joint, axis=0)
+            crosses = _cross(
+                np.concatenate([w_joint, omega, omega]),
+                np.concatenate([origins[:-1], origins[1:], self.link_com[1:]]),
+            )
+            offset = np.cumsum(z * (qd - qd_revolute)[:, None] - crosses[:n], axis=0)
+            link_vel = np.zeros((n + 1, 6))
+            link_vel[1:, :3] = crosses[n : 2 * n] + offset
+            link_vel[1:, 3:] = omega
+            com_vel = np.zeros_like(self.link_com)
+            com_vel[1:] = crosses[2 * n :] + offset
+            self._velocities = (link_vel, com_vel, self.jacobian @ qd)
+        return self._velocities
 
 
 # ------------------------------------------------------------------ workspace
@@ -488,7 +524,9 @@ class _IKProblem:
     MAX_STEP = 0.6  # largest joint step per iteration [rad or m], keeps far starts stable
     STALL_RATIO = 0.999  # an iteration that keeps more of the cost than this makes no progress
     STALL_ITERS = 6  # this many in a row: restart from elsewhere
+    ITERS_PER_START = 40  # a start that has not converged by then is abandoned
     NULLSPACE_GAIN = 0.05  # pull of redundant joints toward home per iteration
+    NULLSPACE_MIN_COST = 1e-6  # below this squared error the pull stops, so the last steps are pure Gauss-Newton
 
     def __init__(self, robot: RobotParams, target: FloatArray, position_only: bool, lo: FloatArray, hi: FloatArray):
         self.robot = robot
@@ -509,17 +547,17 @@ class _IKProblem:
         dr = rotation_log(self.target[:3, :3] @ ee[:3, :3].T)
         jac = self.model.jacobian(frames, ee[:3, 3])[self.rows]
         err = dp if self.position_only else np.concatenate([dp, dr])
-        return err, jac, float(np.linalg.norm(dp)), float(np.linalg.norm(dr))
+        return err, jac, math.sqrt(dp @ dp), math.sqrt(dr @ dr)
 
     def clip(self, q: FloatArray) -> FloatArray:
         return np.clip(q, self.lo, self.hi)
 
-    def step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float) -> FloatArray:
-        """Damped least-squares step Jᵀ(JJᵀ + λI)⁻¹e, plus a null-space pull toward home
-        for redundant arms."""
+    def step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float, cost: float) -> FloatArray:
+        """Damped least-squares step Jᵀ(JJᵀ + λI)⁻¹e, plus, for redundant arms still far
+        from the target (squared error ``cost``), a null-space pull toward home."""
         gram = jac @ jac.T
         gram[np.diag_indices_from(gram)] += lam
-        if self.redundant:
+        if self.redundant and cost > self.NULLSPACE_MIN_COST:
             sol = np.linalg.solve(gram, np.column_stack([err, jac]))
             dq = jac.T @ sol[:, 0]
             null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
@@ -540,8 +578,8 @@ def solve_ik(
     position_only: bool = False,
     tol_pos: float = 1e-6,
     tol_rot: float = 1e-6,
-    max_iter: int = 300,
-    max_restarts: int = 30,
+    max_iter: int = 1000,
+    max_restarts: int = 50,
     respect_limits: bool = True,
     seed: int | None = 0,
 ) -> IKResult:
@@ -590,13 +628,14 @@ def solve_ik(
     err, jac, pos_err, rot_err = problem.evaluate(q)
     cost = float(err @ err)
     best = (cost, q, pos_err, rot_err)
-    lam, stalled, restarts, iterations = problem.LAMBDA_INIT, 0, 0, 0
+    lam, stalled, restarts, iterations, attempt_iterations = problem.LAMBDA_INIT, 0, 0, 0, 0
     while iterations < max_iter and not converged(pos_err, rot_err):
         iterations += 1
-        q_new = problem.clip(q + problem.step(q, err, jac, lam))
+        attempt_iterations += 1
+        q_new = problem.clip(q + problem.step(q, err, jac, lam, cost))
         err_new, jac_new, pos_new, rot_new = problem.evaluate(q_new)
         cost_new = float(err_new @ err_new)
-        progress = cost_new < cost * problem.STALL_RATIO
+        stalled = 0 if cost_new < cost * problem.STALL_RATIO else stalled + 1
         if cost_new < cost:
             q, err, jac, pos_err, rot_err, cost = q_new, err_new, jac_new, pos_new, rot_new, cost_new
             lam = max(lam * problem.LAMBDA_DOWN, problem.LAMBDA_MIN)
@@ -604,13 +643,13 @@ def solve_ik(
                 best = (cost, q, pos_err, rot_err)
         else:
             lam = min(lam * problem.LAMBDA_UP, problem.LAMBDA_MAX)
-        stalled = 0 if progress else stalled + 1
-        if stalled >= problem.STALL_ITERS and restarts < max_restarts and not converged(pos_err, rot_err):
+        gave_up = stalled >= problem.STALL_ITERS or attempt_iterations >= problem.ITERS_PER_START
+        if gave_up and restarts < max_restarts and not converged(pos_err, rot_err):
             restarts += 1
             q = random_configurations(robot, 1, rng)[0] if respect_limits else q + rng.normal(size=q.shape)
             q = problem.clip(q)
             err, jac, pos_err, rot_err = problem.evaluate(q)
-            cost, lam, stalled = float(err @ err), problem.LAMBDA_INIT, 0
+            cost, lam, stalled, attempt_iterations = float(err @ err), problem.LAMBDA_INIT, 0, 0
     _, q_best, pos_best, rot_best = best
     success = converged(pos_best, rot_best)
     if success:

@@ -14,6 +14,7 @@ This module knows nothing about robots or OpenGL.
 """
 from __future__ import annotations
 
+import math
 from typing import Union, overload
 
 import numpy as np
@@ -80,20 +81,22 @@ def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
 def rotation_log(R: ArrayLike) -> FloatArray:
     """Rotation vector ``angle * axis`` (3,) of a rotation matrix, robust near 0 and π.
 
-    The result has norm in [0, π]; it is the orientation error used by inverse kinematics.
+    The result has norm in [0, π]; it is the orientation error used by inverse kinematics
+    (scalar maths on the nine entries: this runs once per IK iteration).
     """
     R = np.asarray(R, dtype=float)
-    cos_angle = np.clip((np.trace(R) - 1.0) * 0.5, -1.0, 1.0)
-    angle = np.arccos(cos_angle)
-    w = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    cos_angle = min(1.0, max(-1.0, (r00 + r11 + r22 - 1.0) * 0.5))
+    angle = math.acos(cos_angle)
+    w = np.array([r21 - r12, r02 - r20, r10 - r01])
     if angle < 1e-6:
         return 0.5 * w  # sin(angle) ≈ angle
-    if np.pi - angle > 1e-4:
-        return angle / (2.0 * np.sin(angle)) * w
+    if math.pi - angle > 1e-4:
+        return (angle / (2.0 * math.sin(angle))) * w
     # Near π: axis from the diagonal of (R + I) / 2 = k kᵀ, sign from the skew part.
     B = 0.5 * (R + np.eye(3))
     i = int(np.argmax(np.diag(B)))
-    k = B[:, i] / np.sqrt(max(B[i, i], EPS_NORM))
+    k = B[:, i] / math.sqrt(max(B[i, i], EPS_NORM))
     if np.dot(k, w) < 0.0:
         k = -k
     return angle * k / np.linalg.norm(k)

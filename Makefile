@@ -1,0 +1,48 @@
+# One-command set-up and test.  `make test` / `make run` / `make bench` create .venv,
+# install the project with its test extra and the system libraries the viewer and the
+# suite load (OSMesa for headless rendering, Xvfb and the xcb libraries of PyQt5's
+# wheel for the real window).  Every step is skipped when already done.
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+SYSTEM_PKGS := libosmesa6 libgl1 xvfb xauth libxcb-icccm4 libxcb-image0 libxcb-keysyms1 \
+	libxcb-render-util0 libxcb-xinerama0 libxcb-xkb1 libxkbcommon-x11-0 libxcb-shape0 \
+	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3
+XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
+
+.PHONY: test run bench setup system-deps clean
+
+test: setup
+	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q
+	$(XVFB) $(PY) -m pytest -q -m window
+
+run: setup
+	$(PY) simulator.py
+
+bench: setup
+	PYOPENGL_PLATFORM=osmesa $(PY) benchmarks/bench.py
+
+setup: system-deps $(STAMP)
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --disable-pip-version-check -e '.[test]'
+	touch $(STAMP)
+
+# Installs missing Debian packages with apt-get as root or through passwordless sudo;
+# otherwise prints the one command to run and stops.
+system-deps:
+	@missing=$$(for p in $(SYSTEM_PKGS); do \
+		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; \
+	done); \
+	if [ -z "$$missing" ]; then exit 0; fi; \
+	if [ "$$(id -u)" = 0 ]; then SUDO=; \
+	elif sudo -n true 2>/dev/null; then SUDO=sudo; \
+	else echo "Missing system packages. Run: sudo apt-get install -y" $$missing; exit 1; fi; \
+	echo "Installing system packages:" $$missing; \
+	$$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null
+
+clean:
+	rm -rf $(VENV) *.egg-info .pytest_cache
