@@ -1,0 +1,144 @@
+"""Inverse kinematics: success rate on reachable targets, limits, accuracy, bad input."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from kinematics import forward_kinematics, random_configurations, solve_ik
+from robot_defs import RobotParams, load_robot
+from transforms import HomogeneousTransform, rot_z
+
+N_TARGETS = 200
+FULL_POSE_ROBOTS = ["anthropomorphic6", "humanoid7", "stanford", "puma560", "ur5"]
+POSITION_ROBOTS = ["planar3", "spherical", "anthropomorphic", "scara"]
+
+
+def limited_humanoid() -> RobotParams:
+    """humanoid7 with every joint limited to ±90°, the 7-DOF case of the IK bar."""
+    h = load_robot("humanoid7")
+    return RobotParams.from_arrays(
+        "humanoid7 ±90°", h.dh_a, h.dh_alpha, h.dh_d, h.dh_th, h.jtype,
+        q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2),
+        base_tf=h.base_tf, endeff_tf=h.endeff_tf,
+    )
+
+
+def rotation_angle(Ra: np.ndarray, Rb: np.ndarray) -> float:
+    """Angle (rad) of the rotation between two rotation matrices, from the trace."""
+    c = (np.trace(Ra.T @ Rb) - 1.0) / 2.0
+    return float(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def targets_for(robot: RobotParams, seed: int) -> np.ndarray:
+    return forward_kinematics(robot, random_configurations(robot, N_TARGETS, np.random.default_rng(seed)))
+
+
+def check_solutions(robot: RobotParams, targets: np.ndarray, position_only: bool) -> None:
+    results = [solve_ik(robot, t, position_only=position_only) for t in targets]
+    solved = [r for r in results if r.success]
+    assert len(solved) >= 0.99 * len(targets), f"{robot.name}: {len(solved)}/{len(targets)} solved"
+    for target, res in zip(targets, results):
+        assert np.all(np.isfinite(res.q))
+        assert np.all(res.q >= robot.q_min) and np.all(res.q <= robot.q_max), res.q
+        if res.success:
+            reached = forward_kinematics(robot, res.q)
+            assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) <= 1e-6
+            if not position_only:
+                assert rotation_angle(reached[:3, :3], target[:3, :3]) <= 1e-6
+
+
+@pytest.mark.parametrize("name", FULL_POSE_ROBOTS)
+def test_full_pose_targets_are_solved(name: str) -> None:
+    robot = load_robot(name)
+    check_solutions(robot, targets_for(robot, seed=11), position_only=False)
+
+
+def test_seven_dof_arm_with_90_degree_limits() -> None:
+    robot = limited_humanoid()
+    check_solutions(robot, targets_for(robot, seed=12), position_only=False)
+
+
+@pytest.mark.parametrize("name", POSITION_ROBOTS)
+def test_position_only_targets_are_solved(name: str) -> None:
+    robot = load_robot(name)
+    check_solutions(robot, targets_for(robot, seed=13), position_only=True)
+
+
+def test_short_arm_asked_for_full_pose_solves_position_and_says_so() -> None:
+    robot = load_robot("anthropomorphic")
+    target = forward_kinematics(robot, np.radians([20.0, 30.0, -40.0]))
+    res = solve_ik(robot, target)
+    assert res.success and res.position_only
+    assert "has 3 joints (< 6): solved for position only" in res.message
+
+
+def test_unreachable_target_is_a_failed_result_not_an_exception() -> None:
+    robot = load_robot("puma560")
+    far = HomogeneousTransform.from_rt(np.eye(3), [5.0, 0.0, 1.0])
+    res = solve_ik(robot, far, max_iter=200)
+    assert not res.success
+    assert np.all(np.isfinite(res.q))
+    assert np.all(res.q >= robot.q_min) and np.all(res.q <= robot.q_max)
+    assert res.pos_err > 3.0
+    assert "did not converge" in res.message
+
+
+def test_respect_limits_false_may_leave_the_limits() -> None:
+    # The planar arm's first joint is limited to ±180°: with limits off the solver
+    # still converges, and the result must reach the target.
+    robot = load_robot("planar3")
+    target = forward_kinematics(robot, np.radians([10.0, 20.0, 30.0]))
+    res = solve_ik(robot, target, respect_limits=False)
+    assert res.success
+    assert np.linalg.norm(forward_kinematics(robot, res.q)[:3, 3] - target[:3, 3]) <= 1e-6
+
+
+def test_redundant_arm_stays_near_home_for_nearby_targets() -> None:
+    # The null-space pull toward home picks, among the many solutions of a 7-DOF arm,
+    # one close to home when the target is close to the home pose.
+    robot = load_robot("humanoid7")
+    q_near = robot.q_home + np.radians([3.0, -2.0, 4.0, 3.0, -3.0, 2.0, 1.0])
+    res = solve_ik(robot, forward_kinematics(robot, q_near))
+    assert res.success
+    assert np.max(np.abs(res.q - robot.q_home)) < np.radians(10.0)
+
+
+@pytest.mark.parametrize(
+    "target, fragment",
+    [
+        (np.eye(3), "IK target must be a 4x4 transform, got shape (3, 3)"),
+        (np.full((4, 4), np.nan), "IK target is not a rigid transform"),
+        (np.diag([2.0, 1.0, 1.0, 1.0]), "IK target is not a rigid transform"),
+        (np.diag([-1.0, 1.0, 1.0, 1.0]), "IK target is not a rigid transform"),
+    ],
+)
+def test_invalid_targets_raise(target: np.ndarray, fragment: str) -> None:
+    with pytest.raises(ValueError) as info:
+        solve_ik(load_robot("puma560"), target)
+    assert fragment in str(info.value)
+
+
+def test_sheared_rotation_is_rejected() -> None:
+    mat = np.eye(4)
+    mat[:3, :3] = rot_z(0.3)
+    mat[0, 1] += 0.01
+    with pytest.raises(ValueError, match="not a rigid transform"):
+        solve_ik(load_robot("puma560"), mat)
+
+
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        ({"q0": np.zeros(5)}, "q0 must have 6 joint values per configuration, got shape (5,)"),
+        ({"q0": [0, 0, np.nan, 0, 0, 0]}, "q0 contains NaN or infinite values"),
+        ({"q0": np.zeros((2, 6))}, "q0 must be one configuration of shape (6,)"),
+        ({"tol_pos": 0.0}, "tol_pos must be a positive finite number, got 0.0"),
+        ({"tol_rot": -1e-3}, "tol_rot must be a positive finite number, got -0.001"),
+        ({"tol_pos": float("nan")}, "tol_pos must be a positive finite number, got nan"),
+    ],
+)
+def test_bad_arguments_raise(kwargs: dict, fragment: str) -> None:
+    robot = load_robot("puma560")
+    with pytest.raises(ValueError) as info:
+        solve_ik(robot, forward_kinematics(robot, robot.q_home), **kwargs)
+    assert fragment in str(info.value)
