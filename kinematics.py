@@ -554,20 +554,30 @@ class _IKProblem:
 
     def step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float, cost: float) -> FloatArray:
         """Damped least-squares step Jᵀ(JJᵀ + λI)⁻¹e, plus, for redundant arms still far
-        from the target (squared error ``cost``), a null-space pull toward home."""
-        gram = jac @ jac.T
-        gram[np.diag_indices_from(gram)] += lam
-        if self.redundant and cost > self.NULLSPACE_MIN_COST:
-            sol = np.linalg.solve(gram, np.column_stack([err, jac]))
-            dq = jac.T @ sol[:, 0]
-            null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
-            dq += null @ (self.NULLSPACE_GAIN * (self.robot.q_home - q))
-        else:
-            dq = jac.T @ np.linalg.solve(gram, err)
+        from the target (squared error ``cost``), a null-space pull toward home.
+
+        Joints resting on a limit that the step would push further out are frozen (their
+        Jacobian column removed) and the step recomputed, so the other joints make up for
+        them instead of the clipped step losing its direction.
+        """
+        dq = self._damped_step(q, err, jac, lam, cost)
+        blocked = ((q <= self.lo) & (dq < 0.0)) | ((q >= self.hi) & (dq > 0.0))
+        if blocked.any():
+            dq = self._damped_step(q, err, jac * ~blocked, lam, cost)
+            dq[blocked] = 0.0
         largest = np.max(np.abs(dq))
         if largest > self.MAX_STEP:
             dq *= self.MAX_STEP / largest
         return dq
+
+    def _damped_step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float, cost: float) -> FloatArray:
+        gram = jac @ jac.T
+        gram[np.diag_indices_from(gram)] += lam
+        if self.redundant and cost > self.NULLSPACE_MIN_COST:
+            sol = np.linalg.solve(gram, np.column_stack([err, jac]))
+            null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
+            return jac.T @ sol[:, 0] + null @ (self.NULLSPACE_GAIN * (self.robot.q_home - q))
+        return jac.T @ np.linalg.solve(gram, err)
 
 
 def solve_ik(
