@@ -41,7 +41,7 @@ FloatArray = NDArray[np.float64]
 #: Configurations processed per chunk by the batched kernels: small enough that the
 #: dozen (3, CHUNK) work arrays stay in the L2 cache, large enough to hide NumPy's
 #: per-call overhead.
-CHUNK = 2048
+CHUNK = 8192
 
 # Twist angle classes: each gets its own cheap update of the (y, z) columns.
 _ALPHA_ZERO, _ALPHA_PLUS90, _ALPHA_MINUS90, _ALPHA_PI, _ALPHA_GENERAL = range(5)
@@ -299,24 +299,24 @@ def jacobian(
     for s in range(0, N, CHUNK):
         Qc = Q[s : s + CHUNK]
         M = Qc.shape[0]
-        z = np.empty((n + 1, 3, M))
-        p = np.empty((n + 1, 3, M))
+        jac = np.empty((6, n, M))  # [v; ω] rows × joints × configurations
+        lever = np.empty((n, 3, M))
 
         def keep(i: int, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray) -> None:
-            z[i] = Z
-            p[i] = P
+            if i < n:  # frame i carries the axis and origin of joint i + 1
+                jac[3:, i] = Z
+                lever[i] = P
 
         p_e = model.walk(Qc, world0, keep)[3]
-        zj, r = z[:-1], p_e - p[:-1]  # joint axes and lever arms (n, 3, M)
-        jac = np.zeros((6, n, M))
-        np.multiply(zj[:, 1], r[:, 2], out=jac[0])
-        jac[0] -= zj[:, 2] * r[:, 1]
-        np.multiply(zj[:, 2], r[:, 0], out=jac[1])
-        jac[1] -= zj[:, 0] * r[:, 2]
-        np.multiply(zj[:, 0], r[:, 1], out=jac[2])
-        jac[2] -= zj[:, 1] * r[:, 0]
-        jac[:3, prismatic] = zj[prismatic].transpose(1, 0, 2)
-        jac[3:, model.rev_index] = zj[model.rev_index].transpose(1, 0, 2)
+        np.subtract(p_e, lever, out=lever)  # p_e − p_i
+        z, r = jac[3:], lever.transpose(1, 0, 2)  # (3, n, M) views
+        tmp = np.empty((n, M))
+        for row, (a, b) in enumerate(((1, 2), (2, 0), (0, 1))):
+            np.multiply(z[a], r[b], out=jac[row])
+            np.multiply(z[b], r[a], out=tmp)
+            jac[row] -= tmp
+        jac[:3, prismatic] = z[:, prismatic]
+        jac[3:, prismatic] = 0.0
         out[s : s + M] = jac.transpose(2, 0, 1)
     return out[0] if single else out
 
