@@ -1,0 +1,166 @@
+"""Command line of robot-sim, run as a subprocess: bad input gives one stderr line and
+exit status 2; --screenshot renders offscreen (OSMesa, no display, no Qt); --list-robots."""
+from __future__ import annotations
+
+import os
+import struct
+import subprocess
+import sys
+import zlib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from robot_defs import RobotDefinitionError, available_robots, load_robot
+
+ROOT = Path(__file__).resolve().parents[1]
+SIMULATOR = ROOT / "simulator.py"
+
+
+def run(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    """Run ``python simulator.py ARGS`` and capture its output."""
+    return subprocess.run(
+        [sys.executable, str(SIMULATOR), *args], capture_output=True, text=True, timeout=120, env=env, cwd=ROOT
+    )
+
+
+def read_png(path: Path) -> np.ndarray:
+    """Decode an 8-bit RGB/RGBA PNG whose rows all use filter 0 (as save_png writes)."""
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    pos, chunks = 8, {}
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos:pos + 4])
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + length]
+        assert struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])[0] == zlib.crc32(kind + body)
+        chunks[kind] = chunks.get(kind, b"") + body
+        pos += 12 + length
+    width, height, depth, color_type = struct.unpack(">IIBB", chunks[b"IHDR"][:10])
+    assert depth == 8 and color_type in (2, 6)
+    channels = 4 if color_type == 6 else 3
+    rows = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), np.uint8).reshape(height, 1 + width * channels)
+    assert np.all(rows[:, 0] == 0)
+    return rows[:, 1:].reshape(height, width, channels)
+
+
+def assert_one_line_error(result: subprocess.CompletedProcess[str], *fragments: str) -> None:
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("robot-sim: error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["--robot", "nosuch"], ["unknown robot 'nosuch'", "available robots:", "anthropomorphic", "puma560"]),
+        (["--q", "10,20"], ["--q:", "has 3 joints, got 2 values"]),
+        (["--q", "10,abc,30"], ["--q: value 2 'abc' is not a number"]),
+        (["--q", "10,nan,30"], ["--q: value 2 'nan' is not a finite number"]),
+        (["--q", "0,0,500"], ["--q: joint 3 value 500 deg is outside its limits"]),
+        (["--size", "big"], ["--size: expected WxH", "got 'big'"]),
+        (["--size", "0x100"], ["--size: expected WxH", "got '0x100'"]),
+        (["--frames", "1,9"], ["--frames: expected 'all' or frame numbers 0..3", "got '9'"]),
+        (["--workspace", "-5"], ["--workspace", "expected a positive integer, got '-5'"]),
+        (["--demo", "square"], ["--demo", "invalid choice: 'square'"]),
+        (["--bogus"], ["unrecognized arguments: --bogus"]),
+        (["--screenshot", "/nonexistent-dir/shot.png"], ["cannot write", "directory '/nonexistent-dir' does not exist"]),
+    ],
+)
+def test_bad_input_gives_one_line_and_status_2(args: list[str], fragments: list[str], tmp_path: Path) -> None:
+    out = tmp_path / "never.png"
+    if "--screenshot" not in args:  # so that a validation bug cannot open a window
+        args = [*args, "--screenshot", str(out)]
+    assert_one_line_error(run(*args), *fragments)
+    assert not out.exists()
+
+
+def test_screenshot_path_that_is_a_directory(tmp_path: Path) -> None:
+    assert_one_line_error(run("--screenshot", str(tmp_path)), f"cannot write '{tmp_path}': it is a directory")
+
+
+def test_broken_robot_file_reports_its_load_error(tmp_path: Path) -> None:
+    bad = tmp_path / "broken.toml"
+    bad.write_text('name = "broken"\nunits = "deg"\n[[joints]]\ntype = "revolute"\na = "wide"\n')
+    with pytest.raises(RobotDefinitionError) as expected:
+        load_robot(bad)
+    result = run("--robot", str(bad), "--screenshot", str(tmp_path / "x.png"))
+    assert_one_line_error(result, " ".join(str(expected.value).split()))
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_missing_robot_file(tmp_path: Path) -> None:
+    assert_one_line_error(run("--robot", str(tmp_path / "none.toml")), "none.toml", "not found")
+
+
+def test_no_display_without_screenshot_says_so() -> None:
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM")}
+    assert_one_line_error(run(env=env), "no display", "use --screenshot FILE.png")
+
+
+def test_missing_osmesa_names_the_package(tmp_path: Path) -> None:
+    # a sitecustomize that makes `from OpenGL import osmesa` fail, as without libOSMesa
+    (tmp_path / "sitecustomize.py").write_text("import sys\nsys.modules['OpenGL.osmesa'] = None\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    result = run("--screenshot", str(tmp_path / "x.png"), env=env)
+    assert_one_line_error(result, "offscreen rendering failed", "libosmesa6")
+
+
+def test_list_robots() -> None:
+    result = run("--list-robots")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == available_robots()
+
+
+def test_screenshot_writes_png_of_requested_size(tmp_path: Path) -> None:
+    out = tmp_path / "shot.png"
+    result = run("--screenshot", str(out), "--size", "320x200")
+    assert result.returncode == 0, result.stderr
+    image = read_png(out)
+    assert image.shape[:2] == (200, 320)
+    red = (image[..., 0] > 150) & (image[..., 1] < 80) & (image[..., 2] < 80)
+    assert red.sum() > 20  # the endeffector sphere (and the x axis of the base frame)
+
+
+def test_screenshot_options_change_the_picture(tmp_path: Path) -> None:
+    def shot(name: str, *args: str) -> np.ndarray:
+        out = tmp_path / f"{name}.png"
+        result = run("--screenshot", str(out), "--size", "240x180", *args)
+        assert result.returncode == 0, result.stderr
+        return read_png(out)
+
+    plain = shot("plain")
+    for name, args in {
+        "q": ["--q", "90,30,-60"],
+        "frames": ["--frames", "all"],
+        "wireframe": ["--wireframe"],
+        "workspace": ["--workspace", "3000"],
+        "robot": ["--robot", "puma560"],
+    }.items():
+        assert np.count_nonzero(np.any(shot(name, *args) != plain, axis=2)) > 100, name
+
+
+def test_robot_file_path_is_accepted(tmp_path: Path) -> None:
+    robot_file = tmp_path / "arm.toml"
+    robot_file.write_text((ROOT / "robots" / "planar3.toml").read_text())
+    out = tmp_path / "arm.png"
+    result = run("--robot", str(robot_file), "--q", "10,20,30", "--screenshot", str(out), "--size", "64x48")
+    assert result.returncode == 0, result.stderr
+    assert read_png(out).shape[:2] == (48, 64)
+
+
+def test_screenshot_path_does_not_import_qt(tmp_path: Path) -> None:
+    out = tmp_path / "noqt.png"
+    code = (
+        "import sys, simulator\n"
+        f"status = simulator.main(['--screenshot', {str(out)!r}, '--size', '64x48'])\n"
+        "assert not [m for m in sys.modules if m.startswith('PyQt5')], 'Qt was imported'\n"
+        "sys.exit(status)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    assert result.returncode == 0, result.stderr
+    assert out.exists()

@@ -1,0 +1,404 @@
+"""The real Qt window under an X server (``xvfb-run``): keys, sliders, dock, mouse.
+
+Each test creates the main window, sends input with QTest to the widget that has the
+keyboard focus (as a user's key press would go), grabs the GL framebuffer before and after
+and checks that the picture changed the way the input says.  Pixel positions come from
+``Camera.project`` with the GL widget's size.
+"""
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any, Iterator
+
+import numpy as np
+import pytest
+
+import graphics_defs as gd
+import graphics_objects
+import simulator
+
+if "OpenGL.platform" not in __import__("sys").modules:
+    os.environ.pop("PYOPENGL_PLATFORM", None)  # the window needs GLX, not OSMesa
+
+from PyQt5.QtCore import QEvent, QPoint, Qt  # noqa: E402
+from PyQt5.QtGui import QImage, QMouseEvent, QWheelEvent  # noqa: E402
+from PyQt5.QtTest import QTest  # noqa: E402
+from PyQt5.QtWidgets import QApplication, QSlider  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def app() -> QApplication:
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        pytest.fail("window tests need an X display: run them with xvfb-run (make test)")
+    return QApplication.instance() or QApplication(["robot-sim-test"])
+
+
+def open_window(app: QApplication, *args: str) -> Any:
+    config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "900x640", *args]))
+    window = simulator.MainWindow(config)
+    window.show()
+    window.activateWindow()
+    window.view.setFocus()
+    assert QTest.qWaitForWindowActive(window)
+    return window
+
+
+@pytest.fixture
+def window(app: QApplication) -> Iterator[Any]:
+    win = open_window(app)
+    yield win
+    win.close()
+    win.deleteLater()
+
+
+def grab(win: Any) -> np.ndarray:
+    """The GL widget's picture (H, W, 4) RGBA, repainted now."""
+    image = win.view.grabFramebuffer().convertToFormat(QImage.Format_RGBA8888)
+    bits = image.constBits()
+    bits.setsize(image.byteCount())
+    return np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine() // 4, 4)[:, : image.width()].copy()
+
+
+def press(app: QApplication, key: int, modifiers: Any = Qt.NoModifier) -> None:
+    """A key press delivered to the focus widget, as the keyboard would."""
+    focus = app.focusWidget()
+    assert focus is not None
+    QTest.keyClick(focus, key, modifiers)
+
+
+def project(win: Any, point: np.ndarray) -> np.ndarray:
+    """Pixel (x, y) of a world point in the GL widget."""
+    width, height = win.view.pixel_size()
+    return win.sim.camera.project(np.asarray(point)[None, :], width, height)[0]
+
+
+def near(image: np.ndarray, xy: np.ndarray, radius: int) -> np.ndarray:
+    x, y = int(round(xy[0])), int(round(xy[1]))
+    return image[max(y - radius, 0): y + radius + 1, max(x - radius, 0): x + radius + 1, :3].astype(int)
+
+
+def dominant(pixels: np.ndarray, channel: int) -> int:
+    """Number of pixels where ``channel`` is bright and clearly above the other two."""
+    others = np.delete(pixels, channel, axis=-1)
+    c = pixels[..., channel]
+    return int(np.count_nonzero((c > 100) & (c > 2 * others.max(axis=-1))))
+
+
+def robot_pixels(image: np.ndarray) -> int:
+    """Pixels that are neither background nor ground/grid (colours of the top and bottom rows)."""
+    rgb = image[..., :3].astype(int)
+    palette = np.unique(np.concatenate([rgb[:4].reshape(-1, 3), rgb[-4:].reshape(-1, 3)]), axis=0)
+    distance = np.abs(rgb[:, :, None, :] - palette[None, None, :, :]).max(axis=-1).min(axis=-1)
+    return int(np.count_nonzero(distance > 24))
+
+
+def changed_pixels(a: np.ndarray, b: np.ndarray) -> int:
+    return int(np.count_nonzero(np.any(a != b, axis=-1)))
+
+
+def cyan_pixels(pixels: np.ndarray) -> int:
+    """Pixels tinted by the translucent cyan ghost (GHOST_COLOR)."""
+    r, g, b = pixels[..., 0], pixels[..., 1], pixels[..., 2]
+    return int(np.count_nonzero((b > r + 40) & (g > r + 20)))
+
+
+def is_red(image: np.ndarray, xy: np.ndarray) -> bool:
+    return dominant(near(image, xy, 1), 0) >= 5
+
+
+def drag(app: QApplication, widget: Any, start: QPoint, delta: QPoint, button: Any, modifiers: Any = Qt.NoModifier) -> None:
+    """Press ``button`` at ``start``, move by ``delta`` with it held, release."""
+    QTest.mousePress(widget, button, modifiers, start)
+    app.sendEvent(widget, QMouseEvent(QEvent.MouseMove, start + delta, Qt.NoButton, button, modifiers))
+    QTest.mouseRelease(widget, button, modifiers, start + delta)
+
+
+def wait_until(condition: Any, limit_ms: int = 30000) -> None:
+    waited = 0
+    while not condition() and waited < limit_ms:
+        QTest.qWait(20)
+        waited += 20
+    assert condition()
+
+
+@pytest.mark.window
+def test_gl_view_has_focus_and_window_is_idle(app: QApplication, window: Any) -> None:
+    assert app.focusWidget() is window.view
+    assert not window.timer.isActive()  # nothing moves, so nothing redraws
+    assert window.sim.robot.name in window.status.text()
+
+
+@pytest.mark.window
+def close_up_on_link(win: Any, link: int = 2) -> None:
+    """Aim the camera closely at the middle of ``link`` so its mesh lines are pixels apart."""
+    frames = win.sim.kin.h_tf
+    win.sim.camera.target = 0.5 * (frames[link - 1].t() + frames[link].t())
+    win.sim.camera.distance = 0.4
+
+
+@pytest.mark.window
+def test_t_toggles_wireframe(app: QApplication, window: Any) -> None:
+    close_up_on_link(window)
+    before = grab(window)
+    press(app, Qt.Key_T)
+    after = grab(window)
+    assert window.sim.options.wireframe
+    assert robot_pixels(after) < 0.7 * robot_pixels(before)
+
+
+@pytest.mark.window
+def test_digit_toggles_frame_axes_at_its_origin(app: QApplication, window: Any) -> None:
+    origin = project(window, window.sim.kin.h_tf[2].t())  # the elbow (frame 1 sits on frame 0)
+    reach = graphics_objects.robot_reach(window.sim.robot)
+    radius = int(0.6 * gd.FRAME_LENGTH_FRAC * reach / window.sim.camera.world_per_pixel(window.view.pixel_size()[1]))
+    before = near(grab(window), origin, radius)
+    press(app, Qt.Key_2)
+    after = near(grab(window), origin, radius)
+    assert window.sim.options.show_frames[2]
+    for channel in range(3):  # x red, y green, z blue
+        assert dominant(after, channel) > dominant(before, channel) + 10, channel
+
+
+@pytest.mark.window
+def test_zero_toggles_all_frames(app: QApplication, window: Any) -> None:
+    before = grab(window)
+    press(app, Qt.Key_0)
+    after = grab(window)
+    assert all(window.sim.options.show_frames)
+    for i in range(1, window.sim.n_frames):
+        assert window.frames_list.item(i).checkState() == Qt.Checked
+    assert dominant(after[..., :3].astype(int), 1) > dominant(before[..., :3].astype(int), 1) + 30
+
+
+@pytest.mark.window
+def test_arrow_key_orbits_camera(app: QApplication, window: Any) -> None:
+    azimuth = window.sim.camera.azimuth_deg
+    before = grab(window)
+    press(app, Qt.Key_Left)
+    after = grab(window)
+    assert window.sim.camera.azimuth_deg == pytest.approx(azimuth - gd.KEY_ORBIT_STEP_DEG)
+    assert changed_pixels(before, after) > 1000
+
+
+@pytest.mark.window
+def test_w_and_s_zoom(app: QApplication, window: Any) -> None:
+    distance = window.sim.camera.distance
+    press(app, Qt.Key_W)
+    assert window.sim.camera.distance == pytest.approx(distance / gd.KEY_ZOOM_FACTOR)
+    press(app, Qt.Key_S)
+    press(app, Qt.Key_S)
+    assert window.sim.camera.distance == pytest.approx(distance * gd.KEY_ZOOM_FACTOR)
+
+
+@pytest.mark.window
+def test_slider_moves_the_red_endeffector(app: QApplication, window: Any) -> None:
+    old_xy = project(window, window.sim.kin.endeff_tf.t())
+    before = grab(window)
+    assert is_red(before, old_xy)
+    slider = window.sliders[0][0]
+    slider.setValue(slider.value() + 60 * gd.SLIDER_TICKS_PER_DEG)  # joint 1 by +60 deg
+    assert window.sim.state.q()[0] == pytest.approx(math.radians(60.0))
+    assert "+60.0 deg" in window.sliders[0][1].text()
+    new_xy = project(window, window.sim.kin.endeff_tf.t())
+    after = grab(window)
+    assert np.linalg.norm(new_xy - old_xy) > 20
+    assert is_red(after, new_xy)
+    assert not is_red(after, old_xy)
+
+
+@pytest.mark.window
+def test_keys_work_after_clicking_a_slider(app: QApplication, window: Any) -> None:
+    slider = window.sliders[1][0]
+    QTest.mouseClick(slider, Qt.LeftButton, Qt.NoModifier, slider.rect().center() + slider.rect().topLeft())
+    assert not isinstance(app.focusWidget(), QSlider)
+    close_up_on_link(window)
+    before = grab(window)
+    press(app, Qt.Key_T)
+    assert window.sim.options.wireframe
+    assert robot_pixels(grab(window)) < 0.7 * robot_pixels(before)
+
+
+@pytest.mark.window
+def test_target_keys_move_the_ghost_and_robot_follows(app: QApplication, window: Any) -> None:
+    press(app, Qt.Key_G)
+    before = grab(window)
+    ghost_before = window.sim.ghost.endeff_tf.t().copy()
+    xy_before = project(window, ghost_before)
+    for _ in range(8):
+        press(app, Qt.Key_I)  # +x, TARGET_STEP_M each
+    assert window.sim.target_reachable
+    ghost_after = window.sim.ghost.endeff_tf.t()
+    np.testing.assert_allclose(ghost_after - ghost_before, [8 * gd.TARGET_STEP_M, 0, 0], atol=1e-4)
+    xy_after = project(window, ghost_after)
+    assert np.linalg.norm(xy_after - xy_before) > 10
+    # the current robot has not moved yet: around the yellow target marker only the
+    # ghost's endeffector sphere (cyan, translucent) is new
+    reach = graphics_objects.robot_reach(window.sim.robot)
+    radius = int(gd.ENDEFF_RADIUS_FRAC * reach / window.sim.camera.world_per_pixel(window.view.pixel_size()[1]))
+    assert cyan_pixels(near(grab(window), xy_after, radius)) > cyan_pixels(near(before, xy_after, radius)) + 10
+    assert window.timer.isActive()
+    wait_until(lambda: not window.timer.isActive())
+    np.testing.assert_allclose(window.sim.kin.endeff_tf.t(), ghost_after, atol=1e-6)
+    # the red endeffector sphere now shows around the (smaller) yellow target marker
+    assert dominant(near(grab(window), xy_after, radius), 0) > dominant(near(before, xy_after, radius), 0) + 10
+
+
+@pytest.mark.window
+def test_unreachable_target_keeps_ghost_and_says_so(app: QApplication, window: Any) -> None:
+    press(app, Qt.Key_G)
+    for _ in range(150):
+        press(app, Qt.Key_U)  # 3 m up: out of reach
+    assert not window.sim.target_reachable
+    ghost = window.sim.ghost.endeff_tf.t().copy()
+    press(app, Qt.Key_U)
+    np.testing.assert_array_equal(window.sim.ghost.endeff_tf.t(), ghost)
+    grab(window)  # paints and refreshes the status bar
+    assert "UNREACHABLE" in window.status.text()
+
+
+@pytest.mark.window
+def test_shift_target_key_rotates_target(app: QApplication, window: Any) -> None:
+    press(app, Qt.Key_G)
+    rot = window.sim.target_tf.R().copy()
+    press(app, Qt.Key_U, Qt.ShiftModifier)
+    step = math.radians(gd.TARGET_STEP_DEG)
+    rz = np.array([[math.cos(step), -math.sin(step), 0], [math.sin(step), math.cos(step), 0], [0, 0, 1]])
+    np.testing.assert_allclose(window.sim.target_tf.R(), rz @ rot, atol=1e-9)
+
+
+@pytest.mark.window
+def test_help_overlay_lists_bindings(app: QApplication, window: Any) -> None:
+    before = grab(window)
+    press(app, Qt.Key_H)
+    after = grab(window)
+    corner = after[gd.HELP_MARGIN_PX + 2: 200, gd.HELP_MARGIN_PX + 2: 200, :3].astype(int)
+    text = np.all(np.abs(corner - np.array(gd.HELP_TEXT_RGB)) < 40, axis=-1)
+    assert np.count_nonzero(text) > 100
+    assert changed_pixels(before, after) > 5000
+    lines = simulator.help_lines()
+    for key, mods, _action, text in gd.KEY_BINDINGS:  # rows with one description share a line
+        assert any(text in line for line in lines), text
+    assert any(line.startswith("1 .. 9 ") for line in lines)
+    assert any(line.startswith("Shift+I / Shift+K ") for line in lines)
+    for gesture, text in gd.MOUSE_BINDINGS:
+        assert any(line.startswith(gesture) and text in line for line in lines)
+
+
+@pytest.mark.window
+def test_robot_chooser_switches_robot(app: QApplication, window: Any) -> None:
+    before = grab(window)
+    window.robot_combo.setCurrentText("puma560")
+    assert window.sim.robot.n_dofs == 6
+    assert len(window.sliders) == 6
+    assert window.frames_list.count() == 6 + 2  # frames 0..6 and the endeffector
+    assert changed_pixels(before, grab(window)) > 1000
+    assert window.sim.robot.name in window.status.text()
+    assert app.focusWidget() is window.view
+    press(app, Qt.Key_T)
+    assert window.sim.options.wireframe
+
+
+@pytest.mark.window
+def test_frames_past_nine_reachable_in_dock(app: QApplication, tmp_path: Path) -> None:
+    joints = "".join(
+        '[[joints]]\ntype = "revolute"\na = 0.12\nalpha = 0.0\nd = 0.0\ntheta = 0.0\nhome = 20.0\n'
+        "limits = [-170.0, 170.0]\n\n"
+        for _ in range(12)
+    )
+    robot_file = tmp_path / "snake12.toml"  # planar 12-link snake above the ground
+    robot_file.write_text(f'name = "snake12"\nunits = "deg"\n\n[base]\nxyz = [0.0, 0.0, 0.3]\n\n{joints}')
+    win = open_window(app, "--robot", str(robot_file))
+    try:
+        assert win.frames_list.count() == 13 + 1
+        origin = project(win, win.sim.kin.h_tf[12].t())
+        before = near(grab(win), origin, 25)
+        item = win.frames_list.item(12)
+        win.frames_list.scrollToItem(item)
+        rect = win.frames_list.visualItemRect(item)
+        checkbox = QPoint(rect.left() + rect.height() // 2 + 2, rect.center().y())
+        QTest.mouseClick(win.frames_list.viewport(), Qt.LeftButton, Qt.NoModifier, checkbox)
+        assert win.sim.options.show_frames[12]
+        after = near(grab(win), origin, 25)
+        assert dominant(after, 1) > dominant(before, 1) + 10  # its green y axis (red x covers the red endeffector)
+        press(app, Qt.Key_9)
+        assert win.sim.options.show_frames[9]
+    finally:
+        win.close()
+
+
+@pytest.mark.window
+def test_p_saves_screenshot_and_status_says_where(app: QApplication, window: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    press(app, Qt.Key_P)
+    saved = list(tmp_path.glob("robot-sim-*.png"))
+    assert len(saved) == 1
+    assert str(saved[0]) in window.statusBar().currentMessage()
+    assert QImage(str(saved[0])).size() == window.view.grabFramebuffer().size()
+
+
+@pytest.mark.window
+def test_workspace_cloud_computed_in_background(app: QApplication, window: Any) -> None:
+    before = grab(window)
+    window.config.workspace = 20000
+    press(app, Qt.Key_E)
+    assert window.sim.options.show_workspace
+    wait_until(lambda: window.sim.workspace is not None)
+    with_cloud = grab(window)
+    assert len(window.sim.workspace) == 20000
+    assert changed_pixels(before, with_cloud) > 1000
+    press(app, Qt.Key_E)
+    assert not window.sim.options.show_workspace
+    assert changed_pixels(before, grab(window)) == 0
+
+
+@pytest.mark.window
+def test_circle_demo_and_velocity_vectors(app: QApplication) -> None:
+    win = open_window(app, "--demo", "circle")
+    try:
+        demo = win.sim.demo
+        assert win.timer.isActive()
+        QTest.qWait(400)
+        distance = np.linalg.norm((win.sim.kin.endeff_tf.t() - demo.center)[:2])
+        assert distance == pytest.approx(gd.DEMO_CIRCLE_RADIUS_M, abs=0.01)
+        assert np.linalg.norm(win.sim.kin.endeff_twist[:3]) > 0.01
+        win.timer.stop()  # freeze the motion, arrows still show the last velocity
+        with_vectors = grab(win)
+        press(app, Qt.Key_V)
+        assert not win.sim.options.show_vectors
+        assert changed_pixels(with_vectors, grab(win)) > 50
+        press(app, Qt.Key_C)
+        assert win.sim.demo is None and not win.timer.isActive()
+    finally:
+        win.close()
+
+
+@pytest.mark.window
+def test_mouse_drag_orbits_and_ctrl_drag_moves_target(app: QApplication, window: Any) -> None:
+    view = window.view
+    centre = view.rect().center()
+    azimuth, distance = window.sim.camera.azimuth_deg, window.sim.camera.distance
+    drag(app, view, centre, QPoint(25, 0), Qt.LeftButton)
+    assert window.sim.camera.azimuth_deg == pytest.approx(azimuth - 25 * gd.MOUSE_ORBIT_DEG_PER_PX)
+    camera_target = window.sim.camera.target.copy()
+    drag(app, view, centre, QPoint(0, 40), Qt.RightButton)
+    assert np.linalg.norm(window.sim.camera.target - camera_target) > 0
+    QTest.mouseClick(view, Qt.LeftButton)  # focus stays with the view
+    wheel = QWheelEvent(QPoint(centre), view.mapToGlobal(centre), QPoint(), QPoint(0, 120), Qt.NoButton, Qt.NoModifier, Qt.NoScrollPhase, False)
+    app.sendEvent(view, wheel)  # one notch away from the user: zoom in
+    assert window.sim.camera.distance == pytest.approx(distance / gd.WHEEL_ZOOM_FACTOR)
+    press(app, Qt.Key_G)
+    target = window.sim.target_tf.t().copy()
+    drag(app, view, centre, QPoint(30, 0), Qt.LeftButton, Qt.ControlModifier)
+    right, _up = window.sim.camera.view_plane_axes()
+    step = window.sim.target_tf.t() - target
+    assert np.dot(step, right) == pytest.approx(30 * window.sim.camera.world_per_pixel(view.pixel_size()[1]))
+
+
+@pytest.mark.window
+def test_escape_closes_window(app: QApplication, window: Any) -> None:
+    press(app, Qt.Key_Escape)
+    assert not window.isVisible()
