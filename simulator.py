@@ -479,10 +479,22 @@ def write_screenshot(config: Config) -> None:
         raise CliError(f"--screenshot: cannot write '{config.screenshot}': {exc.strerror or exc}") from None
 
 
+def _attach_negative_values(argv: Sequence[str]) -> list[str]:
+    """Turn ``--q -30,45`` into ``--q=-30,45``: argparse takes a value starting with "-"
+    and a comma for an option name."""
+    out: list[str] = []
+    for token in argv:
+        if out and out[-1] == "--q" and re.match(r"-[\d.]", token):
+            out[-1] = f"--q={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``robot-sim``; returns the exit status (2 for bad input)."""
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser().parse_args(_attach_negative_values(sys.argv[1:] if argv is None else argv))
         if args.list_robots:
             print("\n".join(available_robots()))
             return 0

@@ -144,6 +144,13 @@ def test_screenshot_options_change_the_picture(tmp_path: Path) -> None:
         assert np.count_nonzero(np.any(shot(name, *args) != plain, axis=2)) > 100, name
 
 
+def test_negative_first_joint_value(tmp_path: Path) -> None:
+    out = tmp_path / "neg.png"
+    result = run("--q", "-30,45,-60", "--screenshot", str(out), "--size", "64x48")
+    assert result.returncode == 0, result.stderr
+    assert out.exists()
+
+
 def test_robot_file_path_is_accepted(tmp_path: Path) -> None:
     robot_file = tmp_path / "arm.toml"
     robot_file.write_text((ROOT / "robots" / "planar3.toml").read_text())
