@@ -406,23 +406,20 @@ class Kinematics:
     def _derive_velocities(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         # Accumulate joint contributions along the chain: ω_i = Σ_{j≤i} ω_j and, for any
         # point x moving with link i, v(x) = Σ_{j≤i} (ω_j × (x − p_{j-1}) + v_j^prismatic)
-        # = ω_i × x + c_i with c_i = Σ_{j≤i} (v_j^prismatic − ω_j × p_{j-1}).
+        # = ω_i × x + c_i with c_i = Σ_{j≤i} (v_j^prismatic − ω_j × p_{j-1}).  A COM sits
+        # at a fixed fraction between two frame origins, so its velocity is the same
+        # blend of theirs (exact also while a prismatic joint stretches its link).
         if self._velocities is None:
             n, qd, revolute = self.robot.n_dofs, self._qd, self._model.revolute
             origins, z = self.frames[:, :3, 3], self.frames[:-1, :3, 2]
             qd_revolute = np.where(revolute, qd, 0.0)
             w_joint = z * qd_revolute[:, None]
             omega = np.cumsum(w_joint, axis=0)
-            crosses = _cross(
-                np.concatenate([w_joint, omega, omega]),
-                np.concatenate([origins[:-1], origins[1:], self.link_com[1:]]),
-            )
-            offset = np.cumsum(z * (qd - qd_revolute)[:, None] - crosses[:n], axis=0)
+            crosses = _cross(np.concatenate([w_joint, omega]), np.concatenate([origins[:-1], origins[1:]]))
             link_vel = np.zeros((n + 1, 6))
-            link_vel[1:, :3] = crosses[n : 2 * n] + offset
+            link_vel[1:, :3] = crosses[n:] + np.cumsum(z * (qd - qd_revolute)[:, None] - crosses[:n], axis=0)
             link_vel[1:, 3:] = omega
-            com_vel = np.zeros_like(self.link_com)
-            com_vel[1:] = crosses[2 * n :] + offset
+            com_vel = self._model.com_weights @ link_vel[:, :3]
             self._velocities = (link_vel, com_vel, self.jacobian @ qd)
         return self._velocities
 

@@ -53,18 +53,15 @@ def rot_from_rpy(rpy: ArrayLike) -> FloatArray:
 def rpy_from_rot(R: ArrayLike) -> tuple[float, float, float]:
     """Roll, pitch, yaw in radians of a rotation matrix (inverse of :func:`rot_from_rpy`).
 
-    At the gimbal lock (pitch = ±90°) roll is set to 0 and yaw carries the rotation.
+    At the gimbal lock (pitch = ±90°, where only yaw ∓ roll is defined) roll is set to 0
+    and yaw carries the rotation.
     """
     R = np.asarray(R, dtype=float)
-    sp = -R[2, 0]
-    pitch = float(np.arcsin(np.clip(sp, -1.0, 1.0)))
-    if abs(sp) < 1.0 - 1e-12:
-        roll = float(np.arctan2(R[2, 1], R[2, 2]))
-        yaw = float(np.arctan2(R[1, 0], R[0, 0]))
-    else:
-        roll = 0.0
-        yaw = float(np.arctan2(-R[0, 1], R[1, 1]))
-    return roll, pitch, yaw
+    cos_pitch = math.hypot(R[0, 0], R[1, 0])
+    pitch = math.atan2(-R[2, 0], cos_pitch)
+    if cos_pitch > 1e-12:
+        return math.atan2(R[2, 1], R[2, 2]), pitch, math.atan2(R[1, 0], R[0, 0])
+    return 0.0, pitch, math.atan2(-R[0, 1], R[1, 1])
 
 
 def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
@@ -79,27 +76,31 @@ def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
 
 
 def rotation_log(R: ArrayLike) -> FloatArray:
-    """Rotation vector ``angle * axis`` (3,) of a rotation matrix, robust near 0 and π.
+    """Rotation vector ``angle * axis`` (3,) of a rotation matrix, accurate at every angle.
 
-    The result has norm in [0, π]; it is the orientation error used by inverse kinematics
-    (scalar maths on the nine entries: this runs once per IK iteration).
+    The angle comes from ``atan2(sin, cos)`` (well conditioned near 0 and π, unlike
+    ``acos`` of the trace); near π, where the skew part vanishes, the axis comes from the
+    symmetric part ``(R + Rᵀ)/2 = cos θ I + (1 − cos θ) k kᵀ``.  The result has norm in
+    [0, π]; it is the orientation error used by inverse kinematics (scalar maths on the
+    nine entries: this runs once per IK iteration).
     """
-    R = np.asarray(R, dtype=float)
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
-    cos_angle = min(1.0, max(-1.0, (r00 + r11 + r22 - 1.0) * 0.5))
-    angle = math.acos(cos_angle)
-    w = np.array([r21 - r12, r02 - r20, r10 - r01])
-    if angle < 1e-6:
-        return 0.5 * w  # sin(angle) ≈ angle
-    if math.pi - angle > 1e-4:
-        return (angle / (2.0 * math.sin(angle))) * w
-    # Near π: axis from the diagonal of (R + I) / 2 = k kᵀ, sign from the skew part.
-    B = 0.5 * (R + np.eye(3))
-    i = int(np.argmax(np.diag(B)))
-    k = B[:, i] / math.sqrt(max(B[i, i], EPS_NORM))
-    if np.dot(k, w) < 0.0:
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = np.asarray(R, dtype=float).tolist()
+    w = np.array([r21 - r12, r02 - r20, r10 - r01])  # 2 sin θ k
+    two_sin = math.sqrt(float(w @ w))
+    cos_angle = (r00 + r11 + r22 - 1.0) * 0.5
+    angle = math.atan2(0.5 * two_sin, cos_angle)
+    if two_sin < 1e-12 and cos_angle > 0.0:
+        return 0.5 * w  # identity up to rounding: θ k ≈ w / 2
+    if two_sin > 1e-3 or cos_angle > 0.0:
+        return (angle / two_sin) * w
+    sym = np.array([[r00, r01 + r10, r02 + r20], [r01 + r10, r11, r12 + r21], [r02 + r20, r12 + r21, r22]])
+    sym[~np.eye(3, dtype=bool)] *= 0.5
+    kk = (sym - cos_angle * np.eye(3)) / (1.0 - cos_angle)  # k kᵀ
+    i = int(np.argmax(np.diag(kk)))
+    k = kk[:, i] / math.sqrt(kk[i, i])
+    if k @ w < 0.0:
         k = -k
-    return angle * k / np.linalg.norm(k)
+    return (angle / math.sqrt(float(k @ k))) * k
 
 
 def angle_axis_from_vec_dir(vec: ArrayLike, dir: ArrayLike) -> tuple[float, FloatArray]:
