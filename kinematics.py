@@ -101,6 +101,7 @@ class _ChainModel:
         weights[rows, rows - 1] = 1.0 - robot.link_com_frac
         weights[rows, rows] = robot.link_com_frac
         self.com_weights = weights
+        self._moving_rows: FloatArray | None = None
 
     # ---------------------------------------------------------------- single configuration
     def frames(self, th: FloatArray, d: FloatArray, world0: FloatArray) -> FloatArray:
@@ -127,6 +128,15 @@ class _ChainModel:
         z = frames[:-1, :3, 2]
         lin = np.where(self.revolute[:, None], _cross(z, p_e - frames[:-1, :3, 3]), z)
         return np.concatenate([lin.T, (z * self.revolute[:, None]).T])
+
+    def moving_position_rows(self) -> FloatArray:
+        """Indices of the position rows of the Jacobian that are not structurally zero,
+        found once from a few random in-range configurations."""
+        if self._moving_rows is None:
+            probe = random_configurations(self.robot, 8, np.random.default_rng(0))
+            jac = jacobian(self.robot, probe)
+            self._moving_rows = np.flatnonzero(np.abs(jac[:, :3, :]).max(axis=(0, 2)) > 1e-9)
+        return self._moving_rows
 
     # ---------------------------------------------------------------- batched kernel
     def walk(
@@ -324,14 +334,16 @@ def jacobian(
 def manipulability(robot: RobotParams, q: ArrayLike, jac: ArrayLike | None = None) -> FloatArray | float:
     """Yoshikawa's manipulability √det(J Jᵀ) at q (n,) or for each row of q (N, n).
 
-    Arms with six or more joints use the full 6×n Jacobian; arms with fewer use the
-    position rows only (√det(J_v J_vᵀ), or √det(J_vᵀ J_v) below three joints).  A
+    Arms with six or more joints use the full 6×n Jacobian.  Arms with fewer use the
+    position rows only (√det(J_v J_vᵀ), or √det(J_vᵀ J_v) when there are more rows than
+    joints), leaving out any position row the arm's structure keeps at zero (the z row of
+    a planar arm), which would otherwise make the measure vanish everywhere.  A
     precomputed Jacobian of matching shape may be passed as ``jac``.
     """
     J = jacobian(robot, q) if jac is None else np.asarray(jac, dtype=float)
     n = robot.n_dofs
     if n < 6:
-        J = J[..., :3, :]
+        J = J[..., _model(robot).moving_position_rows(), :]
     JJt = J @ np.swapaxes(J, -1, -2) if J.shape[-2] <= n else np.swapaxes(J, -1, -2) @ J
     m = np.sqrt(np.clip(np.linalg.det(JJt), 0.0, None))
     return float(m) if m.ndim == 0 else m

@@ -154,7 +154,9 @@ def test_manipulability_is_yoshikawa_measure(name):
     Q = random_q(rob, np.random.default_rng(26), 6)
     J = fd_jacobian(rob, Q)
     if rob.n_dofs < 6:
-        J = J[:, :3]  # arms with fewer joints: position rows only
+        # arms with fewer joints: position rows only, without the planar arm's z row,
+        # which is zero everywhere
+        J = J[:, :2] if name == "planar3" else J[:, :3]
     expected = np.sqrt(np.abs(np.linalg.det(J @ np.swapaxes(J, 1, 2))))
     got = manipulability(rob, Q)
     assert got.shape == (6,)
@@ -162,6 +164,20 @@ def test_manipulability_is_yoshikawa_measure(name):
     for k, q in enumerate(Q):
         assert manipulability(rob, q) == pytest.approx(got[k], rel=1e-12, abs=1e-15)
         assert manipulability(rob, q, jac=jacobian(rob, q)) == pytest.approx(got[k], rel=1e-12, abs=1e-15)
+
+
+def test_planar_arm_manipulability_by_cauchy_binet():
+    """For the planar arm, column j of the x-y Jacobian is r_j = p_e − o_{j-1} turned by 90°,
+    so det(J Jᵀ) = Σ_{j<k} (r_j × r_k)² (Cauchy–Binet over the 2×2 minors)."""
+    arm = robot("planar3")
+    a = arm.dh_a
+    for q in random_q(arm, np.random.default_rng(31), 20):
+        angles = np.cumsum(q)
+        joints = np.vstack([[0.0, 0.0], np.cumsum(a[:, None] * np.c_[np.cos(angles), np.sin(angles)], axis=0)])
+        r = joints[-1] - joints[:-1]
+        minors = [r[j, 0] * r[k, 1] - r[j, 1] * r[k, 0] for j in range(3) for k in range(j + 1, 3)]
+        assert manipulability(arm, q) == pytest.approx(np.sqrt(np.sum(np.square(minors))), rel=1e-9)
+    assert manipulability(arm, np.zeros(3)) < 1e-7  # stretched out: singular
 
 
 def test_manipulability_closed_forms_of_the_3dof_arms():
