@@ -564,15 +564,44 @@ def qt_classes() -> Any:
         bits = functools.reduce(lambda a, b: a | b, (modifier_flags[m] for m in mods.split("+") if m), Qt.NoModifier)
         return int(getattr(Qt, f"Key_{key}")), int(bits)
 
+    class HelpOverlay(QtWidgets.QWidget):
+        """Key and mouse bindings drawn with QPainter over the GL picture: a transparent
+        child of the GL view, so its painting shares no GL state with render_scene."""
+
+        def __init__(self, parent: QtWidgets.QWidget) -> None:
+            super().__init__(parent)
+            self.setAttribute(Qt.WA_TransparentForMouseEvents)
+            self.setFocusPolicy(Qt.NoFocus)
+            self.hide()
+
+        def paintEvent(self, event: QtGui.QPaintEvent) -> None:
+            painter = QtGui.QPainter(self)
+            font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
+            font.setStyleHint(QtGui.QFont.TypeWriter)
+            painter.setFont(font)
+            metrics = QtGui.QFontMetrics(font)
+            lines = help_lines()
+            margin, line_h = gd.HELP_MARGIN_PX, metrics.lineSpacing()
+            rows = max(1, (self.height() - 4 * margin) // line_h)
+            columns = [lines[i:i + rows] for i in range(0, len(lines), rows)]
+            col_w = max(metrics.horizontalAdvance(line) for line in lines) + 2 * margin
+            box = QtCore.QRect(margin, margin, col_w * len(columns) + margin, line_h * min(rows, len(lines)) + 2 * margin)
+            painter.fillRect(box, QtGui.QColor(*gd.HELP_BACKGROUND_RGBA))
+            painter.setPen(QtGui.QColor(*gd.HELP_TEXT_RGB))
+            for c, column in enumerate(columns):
+                for r, line in enumerate(column):
+                    painter.drawText(2 * margin + c * col_w, 2 * margin + r * line_h + metrics.ascent(), line)
+            painter.end()
+
     class GLView(QtWidgets.QOpenGLWidget):
         """GL widget: paints the simulation with render_scene, turns the mouse into camera
-        and target moves, draws the help overlay with QPainter and measures the frame rate
-        over actual paints."""
+        and target moves, carries the help overlay and measures the frame rate over actual
+        paints."""
 
         def __init__(self, window: "MainWindow") -> None:
             super().__init__(window)
             self.window_ = window
-            self.show_help = False
+            self.help = HelpOverlay(self)
             self.paint_times: deque[float] = deque()
             self.drag_pos: QtCore.QPoint | None = None
             self.setFocusPolicy(Qt.StrongFocus)
@@ -597,31 +626,12 @@ def qt_classes() -> Any:
             sim = self.window_.sim
             width, height = self.pixel_size()
             go.render_scene(sim.camera, sim.scene(), sim.options, width, height)
-            now = time.monotonic()
-            self.paint_times.append(now)
-            if self.show_help:
-                self.paint_help()
+            self.paint_times.append(time.monotonic())
             self.window_.refresh_status()
 
-        def paint_help(self) -> None:
-            """Draw the key and mouse bindings over the GL picture, in columns if needed."""
-            painter = QtGui.QPainter(self)
-            font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
-            font.setStyleHint(QtGui.QFont.TypeWriter)
-            painter.setFont(font)
-            metrics = QtGui.QFontMetrics(font)
-            lines = help_lines()
-            margin, line_h = gd.HELP_MARGIN_PX, metrics.lineSpacing()
-            rows = max(1, (self.height() - 4 * margin) // line_h)
-            columns = [lines[i:i + rows] for i in range(0, len(lines), rows)]
-            col_w = max(metrics.horizontalAdvance(line) for line in lines) + 2 * margin
-            box = QtCore.QRect(margin, margin, col_w * len(columns) + margin, line_h * min(rows, len(lines)) + 2 * margin)
-            painter.fillRect(box, QtGui.QColor(*gd.HELP_BACKGROUND_RGBA))
-            painter.setPen(QtGui.QColor(*gd.HELP_TEXT_RGB))
-            for c, column in enumerate(columns):
-                for r, line in enumerate(column):
-                    painter.drawText(2 * margin + c * col_w, 2 * margin + r * line_h + metrics.ascent(), line)
-            painter.end()
+        def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
+            super().resizeEvent(event)
+            self.help.resize(self.size())
 
         def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
             self.drag_pos = event.pos()
@@ -841,7 +851,7 @@ def qt_classes() -> Any:
             return actions
 
         def toggle_help(self) -> None:
-            self.view.show_help = not self.view.show_help
+            self.view.help.setVisible(not self.view.help.isVisible())
 
         def toggle_frame(self, index: int) -> None:
             if not self.sim.options.toggle_frame(index):
@@ -898,7 +908,7 @@ def qt_classes() -> Any:
             stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{int(time.time() * 1000) % 1000:03d}"
             stem = Path(self.robot_combo.currentText()).stem
             path = Path.cwd() / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
-            if self.view.grabFramebuffer().save(str(path)):
+            if self.view.grab().save(str(path)):  # the GL picture with the help overlay if shown
                 self.message(f"screenshot saved to {path}")
             else:
                 self.message(f"could not save screenshot to {path}")
