@@ -521,8 +521,23 @@ def _target_matrix(target: HomogeneousTransform | ArrayLike) -> FloatArray:
     return mat
 
 
+@dataclass(frozen=True)
+class _Pose:
+    """One evaluated IK iterate: joint vector, error, Jacobian and error norms."""
+
+    q: FloatArray
+    err: FloatArray
+    jac: FloatArray
+    pos_err: float
+    rot_err: float
+
+    @property
+    def cost(self) -> float:
+        return float(self.err @ self.err)
+
+
 class _IKProblem:
-    """Pose error, Jacobian and limits of one IK query (single configuration)."""
+    """Pose error, Jacobian, limits and the damped least-squares descent of one IK query."""
 
     # Levenberg–Marquardt damping schedule
     LAMBDA_INIT = 1e-3
@@ -532,61 +547,105 @@ class _IKProblem:
     LAMBDA_UP = 10.0
     MAX_STEP = 0.6  # largest joint step per iteration [rad or m], keeps far starts stable
     STALL_RATIO = 0.999  # an iteration that keeps more of the cost than this makes no progress
-    STALL_ITERS = 6  # this many in a row: restart from elsewhere
+    STALL_ITERS = 6  # this many in a row: the descent has stalled
     ITERS_PER_START = 40  # a start that has not converged by then is abandoned
     NULLSPACE_GAIN = 0.05  # pull of redundant joints toward home per iteration
     NULLSPACE_MIN_COST = 1e-6  # below this squared error the pull stops, so the last steps are pure Gauss-Newton
+    PRISMATIC_RESTART_SPAN = 1.0  # m either side of the current value for an unlimited prismatic joint
 
-    def __init__(self, robot: RobotParams, target: FloatArray, position_only: bool, lo: FloatArray, hi: FloatArray):
+    def __init__(
+        self,
+        robot: RobotParams,
+        target: FloatArray,
+        position_only: bool,
+        lo: FloatArray,
+        hi: FloatArray,
+        tol_pos: float,
+        tol_rot: float,
+    ) -> None:
         self.robot = robot
         self.model = _model(robot)
         self.target = target
         self.position_only = position_only
         self.lo, self.hi = lo, hi
+        self.tol_pos, self.tol_rot = tol_pos, tol_rot
         self.rows = slice(0, 3) if position_only else slice(0, 6)
-        self.task_dim = 3 if position_only else 6
-        self.redundant = robot.n_dofs > self.task_dim
+        self.redundant = robot.n_dofs > (3 if position_only else 6)
         self.world0 = robot.base_tf.mat
 
-    def evaluate(self, q: FloatArray) -> tuple[FloatArray, FloatArray, float, float]:
-        """Error vector (task_dim,), Jacobian (task_dim, n), position and rotation errors."""
+    def evaluate(self, q: FloatArray) -> _Pose:
         frames = self.model.frames(*self.model.th_d(q), self.world0)
         ee = frames[-1] @ self.model.tool
         dp = self.target[:3, 3] - ee[:3, 3]
         dr = rotation_log(self.target[:3, :3] @ ee[:3, :3].T)
         jac = self.model.jacobian(frames, ee[:3, 3])[self.rows]
         err = dp if self.position_only else np.concatenate([dp, dr])
-        return err, jac, math.sqrt(dp @ dp), math.sqrt(dr @ dr)
+        return _Pose(q, err, jac, math.sqrt(dp @ dp), math.sqrt(dr @ dr))
 
-    def clip(self, q: FloatArray) -> FloatArray:
-        return np.clip(q, self.lo, self.hi)
+    def converged(self, pose: _Pose) -> bool:
+        return pose.pos_err <= self.tol_pos and (self.position_only or pose.rot_err <= self.tol_rot)
 
-    def step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float, cost: float) -> FloatArray:
+    def into_limits(self, q: FloatArray) -> FloatArray:
+        """q inside the limits: a revolute joint outside its range first turns by whole
+        turns when that lands inside it (the same pose), otherwise it is clipped."""
+        with np.errstate(invalid="ignore"):
+            turns = np.where(q < self.lo, np.ceil((self.lo - q) / (2 * np.pi)), 0.0)
+            turns = np.where(q > self.hi, np.floor((self.hi - q) / (2 * np.pi)), turns)
+        wrapped = q + 2 * np.pi * turns
+        inside = self.model.revolute & (wrapped >= self.lo) & (wrapped <= self.hi)
+        return np.clip(np.where(inside, wrapped, q), self.lo, self.hi)
+
+    def restart_sample(self, rng: np.random.Generator, q: FloatArray) -> FloatArray:
+        """A random configuration inside the limits (unlimited revolute joints over ±π,
+        unlimited prismatic ones around their current value)."""
+        lo = np.where(np.isfinite(self.lo), self.lo, np.where(self.model.revolute, -np.pi, q - self.PRISMATIC_RESTART_SPAN))
+        hi = np.where(np.isfinite(self.hi), self.hi, np.where(self.model.revolute, np.pi, q + self.PRISMATIC_RESTART_SPAN))
+        return lo + (hi - lo) * rng.random(q.shape[0])
+
+    def descend(self, q: FloatArray, bounded: bool, budget: int) -> tuple[_Pose, int]:
+        """Levenberg–Marquardt from q for at most ``budget`` iterations, until converged or
+        stalled; ``bounded`` keeps every iterate inside the limits.  Returns the best pose
+        and the iterations used."""
+        pose = self.evaluate(self.into_limits(q) if bounded else q)
+        lam, stalled, used = self.LAMBDA_INIT, 0, 0
+        while used < budget and stalled < self.STALL_ITERS and not self.converged(pose):
+            used += 1
+            q_new = pose.q + self.step(pose, lam, bounded)
+            new = self.evaluate(self.into_limits(q_new) if bounded else q_new)
+            stalled = 0 if new.cost < pose.cost * self.STALL_RATIO else stalled + 1
+            if new.cost < pose.cost:
+                pose, lam = new, max(lam * self.LAMBDA_DOWN, self.LAMBDA_MIN)
+            else:
+                lam = min(lam * self.LAMBDA_UP, self.LAMBDA_MAX)
+        return pose, used
+
+    def step(self, pose: _Pose, lam: float, bounded: bool) -> FloatArray:
         """Damped least-squares step Jᵀ(JJᵀ + λI)⁻¹e, plus, for redundant arms still far
-        from the target (squared error ``cost``), a null-space pull toward home.
+        from the target, a null-space pull toward home.
 
-        Joints resting on a limit that the step would push further out are frozen (their
-        Jacobian column removed) and the step recomputed, so the other joints make up for
-        them instead of the clipped step losing its direction.
+        When ``bounded``, joints resting on a limit that the step would push further out
+        are frozen (their Jacobian column removed) and the step recomputed, so the other
+        joints make up for them instead of the clipped step losing its direction.
         """
-        dq = self._damped_step(q, err, jac, lam, cost)
-        blocked = ((q <= self.lo) & (dq < 0.0)) | ((q >= self.hi) & (dq > 0.0))
-        if blocked.any():
-            dq = self._damped_step(q, err, jac * ~blocked, lam, cost)
-            dq[blocked] = 0.0
+        dq = self._damped_step(pose, pose.jac, lam)
+        if bounded:
+            blocked = ((pose.q <= self.lo) & (dq < 0.0)) | ((pose.q >= self.hi) & (dq > 0.0))
+            if blocked.any():
+                dq = self._damped_step(pose, pose.jac * ~blocked, lam)
+                dq[blocked] = 0.0
         largest = np.max(np.abs(dq))
         if largest > self.MAX_STEP:
             dq *= self.MAX_STEP / largest
         return dq
 
-    def _damped_step(self, q: FloatArray, err: FloatArray, jac: FloatArray, lam: float, cost: float) -> FloatArray:
+    def _damped_step(self, pose: _Pose, jac: FloatArray, lam: float) -> FloatArray:
         gram = jac @ jac.T
         gram[np.diag_indices_from(gram)] += lam
-        if self.redundant and cost > self.NULLSPACE_MIN_COST:
-            sol = np.linalg.solve(gram, np.column_stack([err, jac]))
+        if self.redundant and pose.cost > self.NULLSPACE_MIN_COST:
+            sol = np.linalg.solve(gram, np.column_stack([pose.err, jac]))
             null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
-            return jac.T @ sol[:, 0] + null @ (self.NULLSPACE_GAIN * (self.robot.q_home - q))
-        return jac.T @ np.linalg.solve(gram, err)
+            return jac.T @ sol[:, 0] + null @ (self.NULLSPACE_GAIN * (self.robot.q_home - pose.q))
+        return jac.T @ np.linalg.solve(gram, pose.err)
 
 
 def solve_ik(
@@ -605,19 +664,22 @@ def solve_ik(
     """Joint vector that puts the endeffector at ``target`` (world frame, 4×4 or
     :class:`HomogeneousTransform`), by damped least squares (Levenberg–Marquardt).
 
-    Starts at ``q0`` (home when None).  Each iteration solves ``(JJᵀ + λI) y = e`` for the
-    pose error e = [p* − p; log(R* Rᵀ)] and steps ``Δq = Jᵀy``, adapting λ (smaller after a
-    step that lowers the error, larger after one that does not).  With ``respect_limits``
-    every iterate is clipped into the joint limits.  A start that stalls is abandoned for a
-    random in-limit configuration, up to ``max_restarts`` times, within ``max_iter``
-    iterations in total.  Redundant arms add a null-space pull toward home.  Arms with
-    fewer than six joints always solve position only (``position_only`` in the result
-    says so, with a message).
+    Each iteration solves ``(JJᵀ + λI) y = e`` for the pose error
+    e = [p* − p; log(R* Rᵀ)] and steps ``Δq = Jᵀy``, adapting λ (smaller after a step that
+    lowers the error, larger after one that does not).  The first descent starts at ``q0``
+    (home when None) and, with ``respect_limits``, keeps every iterate inside the joint
+    limits, freezing joints that push against a limit.  A descent that stalls or has not
+    converged in 40 iterations is followed by one from a random configuration, up to
+    ``max_restarts`` times within ``max_iter`` iterations in total.  Restarts descend
+    without bounds (far more of them converge) and then bring the solution into the
+    limits by whole turns of revolute joints, or polish it with a bounded descent.
+    Redundant arms add a null-space pull toward home.  Arms with fewer than six joints
+    always solve position only (``position_only`` in the result says so, with a message).
 
     Success means ``pos_err <= tol_pos`` and, unless position only, ``rot_err <= tol_rot``.
-    A failure is a result with ``success=False`` holding the best configuration found.
-    Raises ValueError for a target that is not a rigid transform, a wrong-length or
-    non-finite ``q0``, or non-positive tolerances.
+    A failure is a result with ``success=False`` holding the best in-limit configuration
+    found.  Raises ValueError for a target that is not a rigid transform, a wrong-length
+    or non-finite ``q0``, or non-positive tolerances.
     """
     robot = robot_params
     tmat = _target_matrix(target)
@@ -637,54 +699,40 @@ def solve_ik(
         lo, hi = np.array(robot.q_min), np.array(robot.q_max)
     else:
         lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
-    problem = _IKProblem(robot, tmat, position_only, lo, hi)
+    problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
     rng = np.random.default_rng(seed)
 
-    def converged(pos_err: float, rot_err: float) -> bool:
-        return pos_err <= tol_pos and (position_only or rot_err <= tol_rot)
+    best, iterations, restarts, bounded = None, 0, 0, True
+    while True:
+        pose, used = problem.descend(q, bounded, min(problem.ITERS_PER_START, max_iter - iterations))
+        iterations += used
+        if not bounded:
+            pose = problem.evaluate(problem.into_limits(pose.q))
+            if not problem.converged(pose) and iterations < max_iter:
+                pose, used = problem.descend(pose.q, True, min(problem.ITERS_PER_START, max_iter - iterations))
+                iterations += used
+        if best is None or pose.cost < best.cost:
+            best = pose
+        if problem.converged(best) or restarts >= max_restarts or iterations >= max_iter:
+            break
+        restarts += 1
+        q, bounded = problem.restart_sample(rng, best.q), False
 
-    q = problem.clip(q)
-    err, jac, pos_err, rot_err = problem.evaluate(q)
-    cost = float(err @ err)
-    best = (cost, q, pos_err, rot_err)
-    lam, stalled, restarts, iterations, attempt_iterations = problem.LAMBDA_INIT, 0, 0, 0, 0
-    while iterations < max_iter and not converged(pos_err, rot_err):
-        iterations += 1
-        attempt_iterations += 1
-        q_new = problem.clip(q + problem.step(q, err, jac, lam, cost))
-        err_new, jac_new, pos_new, rot_new = problem.evaluate(q_new)
-        cost_new = float(err_new @ err_new)
-        stalled = 0 if cost_new < cost * problem.STALL_RATIO else stalled + 1
-        if cost_new < cost:
-            q, err, jac, pos_err, rot_err, cost = q_new, err_new, jac_new, pos_new, rot_new, cost_new
-            lam = max(lam * problem.LAMBDA_DOWN, problem.LAMBDA_MIN)
-            if cost < best[0]:
-                best = (cost, q, pos_err, rot_err)
-        else:
-            lam = min(lam * problem.LAMBDA_UP, problem.LAMBDA_MAX)
-        gave_up = stalled >= problem.STALL_ITERS or attempt_iterations >= problem.ITERS_PER_START
-        if gave_up and restarts < max_restarts and not converged(pos_err, rot_err):
-            restarts += 1
-            q = random_configurations(robot, 1, rng)[0] if respect_limits else q + rng.normal(size=q.shape)
-            q = problem.clip(q)
-            err, jac, pos_err, rot_err = problem.evaluate(q)
-            cost, lam, stalled, attempt_iterations = float(err @ err), problem.LAMBDA_INIT, 0, 0
-    _, q_best, pos_best, rot_best = best
-    success = converged(pos_best, rot_best)
+    success = problem.converged(best)
     if success:
         message += f"converged in {iterations} iterations ({restarts} restarts)"
     else:
         message += (
             f"did not converge in {iterations} iterations ({restarts} restarts): "
-            f"position error {pos_best:.3g} m, rotation error {rot_best:.3g} rad"
+            f"position error {best.pos_err:.3g} m, rotation error {best.rot_err:.3g} rad"
         )
     return IKResult(
-        q=q_best.copy(),
+        q=best.q.copy(),
         success=success,
         iterations=iterations,
         restarts=restarts,
-        pos_err=pos_best,
-        rot_err=rot_best,
+        pos_err=best.pos_err,
+        rot_err=best.rot_err,
         position_only=position_only,
         message=message,
     )
