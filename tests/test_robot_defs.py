@@ -78,10 +78,10 @@ def test_shipped_values_are_converted_to_si():
     puma = load_robot("puma560")
     np.testing.assert_allclose(puma.dh_alpha, np.array([90, 0, -90, 90, -90, 0]) * DEG)
     np.testing.assert_allclose(puma.dh_a, [0, 0.4318, 0.0203, 0, 0, 0])
-    np.testing.assert_allclose(puma.dh_d, [0, 0, 0.15005, 0.4318, 0, 0])
+    np.testing.assert_allclose(puma.dh_d, [0.6718, 0, 0.15005, 0.4318, 0, 0])
     np.testing.assert_allclose(puma.q_min[1:3], np.array([-45, -225]) * DEG)
     np.testing.assert_allclose(puma.q_home[1], 45 * DEG)
-    np.testing.assert_allclose(puma.base_tf.mat, _translation(0, 0, 0.672))
+    np.testing.assert_allclose(puma.base_tf.mat, np.eye(4))
     stanford = load_robot("stanford")
     assert stanford.dh_th[2] == pytest.approx(-math.pi / 2)
     # a prismatic joint's home and limits are metres, not scaled by the degree factor
