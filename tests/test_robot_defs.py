@@ -78,7 +78,7 @@ def test_shipped_values_are_converted_to_si():
     puma = load_robot("puma560")
     np.testing.assert_allclose(puma.dh_alpha, np.array([90, 0, -90, 90, -90, 0]) * DEG)
     np.testing.assert_allclose(puma.dh_a, [0, 0.4318, 0.0203, 0, 0, 0])
-    np.testing.assert_allclose(puma.dh_d, [0.6718, 0, 0.15005, 0.4318, 0, 0])
+    np.testing.assert_allclose(puma.dh_d, [0.67183, 0, 0.15005, 0.4318, 0, 0])
     np.testing.assert_allclose(puma.q_min[1:3], np.array([-45, -225]) * DEG)
     np.testing.assert_allclose(puma.q_home[1], 45 * DEG)
     np.testing.assert_allclose(puma.base_tf.mat, np.eye(4))
