@@ -1,0 +1,227 @@
+"""Constants of the viewer: sizes, colours, tessellation, camera and lighting.
+
+Data only, no logic.  Colours are RGBA tuples of floats in [0, 1].  Robot part
+sizes are fractions of the robot's *reach* (the sum of its DH link lengths and
+offsets, see ``graphics_objects.robot_reach``), so a 0.5 m arm and a 3 m arm
+look alike on screen; other lengths are in metres.
+"""
+
+# --- window background --------------------------------------------------------
+BACKGROUND_COLOR = (0.16, 0.18, 0.22, 1.0)
+
+# --- tessellation of the unit meshes (built once per GL context) --------------
+CYLINDER_SLICES = 24          # segments around a cylinder, disk or cone
+SPHERE_SLICES = 24            # segments around a sphere (longitude)
+SPHERE_STACKS = 14            # segments pole to pole (latitude)
+
+# --- robot reach used to scale the parts (metres) -----------------------------
+REACH_MIN = 0.2               # a robot smaller than this is drawn at this scale
+REACH_MAX = 20.0              # a robot larger than this is drawn at this scale
+
+# --- robot part sizes, as fractions of the reach ------------------------------
+LINK_RADIUS_FRAC = 0.018      # link cylinder radius
+JOINT_RADIUS_FRAC = 0.035     # revolute joint cylinder radius
+JOINT_LENGTH_FRAC = 0.10      # revolute joint cylinder length along its axis
+PRISMATIC_WIDTH_FRAC = 0.06   # prismatic joint box side across the axis
+PRISMATIC_LENGTH_FRAC = 0.14  # prismatic joint box length along the axis
+ENDEFF_RADIUS_FRAC = 0.035    # endeffector sphere radius
+COM_RADIUS_FRAC = 0.022       # link centre-of-mass sphere radius
+MIN_LINK_LENGTH = 1e-6        # metres; shorter links and tool segments are not drawn
+
+# --- robot colours ---------------------------------------------------------------
+LINK_COLOR = (0.80, 0.80, 0.82, 1.0)      # light grey
+JOINT_COLOR = (0.30, 0.30, 0.33, 1.0)     # dark grey
+ENDEFF_COLOR = (0.90, 0.08, 0.08, 1.0)    # red
+COM_COLOR = (0.10, 0.25, 0.95, 1.0)       # blue
+TRANSLUCENT_ALPHA = 0.35                  # robot alpha when transparency is on
+GHOST_COLOR = (0.30, 0.85, 1.00, 0.40)    # desired state, drawn translucent
+
+# --- coordinate frames (RGB axes with cone tips) ---------------------------------
+FRAME_LENGTH_FRAC = 0.16      # axis length, fraction of the reach
+FRAME_SHAFT_RADIUS_FRAC = 0.035  # shaft radius, fraction of the axis length
+FRAME_HEAD_RADIUS_FRAC = 0.09    # cone radius, fraction of the axis length
+FRAME_HEAD_LENGTH_FRAC = 0.25    # cone length, fraction of the axis length
+AXIS_X_COLOR = (0.95, 0.10, 0.10, 1.0)
+AXIS_Y_COLOR = (0.10, 0.85, 0.10, 1.0)
+AXIS_Z_COLOR = (0.15, 0.25, 1.00, 1.0)
+
+# --- vectors (arrows drawn from a point along a world vector) -----------------
+VECTOR_SHAFT_RADIUS_FRAC = 0.008  # shaft radius, fraction of the reach
+VECTOR_HEAD_RADIUS_FRAC = 0.022   # cone radius, fraction of the reach
+VECTOR_HEAD_LENGTH_FRAC = 0.06    # cone length, fraction of the reach (at most half the arrow)
+LINEAR_VELOCITY_COLOR = (1.00, 0.55, 0.00, 1.0)   # orange
+ANGULAR_VELOCITY_COLOR = (0.75, 0.20, 0.95, 1.0)  # purple
+
+# --- IK target: a small frame and a marker sphere ------------------------------
+TARGET_FRAME_LENGTH_FRAC = 0.10     # fraction of the reach
+TARGET_MARKER_RADIUS_FRAC = 0.022   # fraction of the reach
+TARGET_COLOR = (1.00, 0.85, 0.00, 1.0)              # yellow: reachable
+TARGET_UNREACHABLE_COLOR = (1.00, 0.00, 0.85, 1.0)  # magenta: warning
+
+# --- ground plane and grid (z = 0 in the world) ---------------------------------
+GROUND_COLOR = (0.42, 0.44, 0.47, 1.0)
+GRID_COLOR = (0.30, 0.31, 0.34, 1.0)
+GROUND_EXTENT_FRAC = 1.5      # half side of the ground square, fraction of the reach
+GRID_LINES_PER_HALF = 10      # about this many grid cells from the centre to an edge
+GRID_STEPS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0)  # metres, first >= target used
+GROUND_POLYGON_OFFSET = (1.0, 1.0)  # glPolygonOffset(factor, units) keeps grid lines above the plane
+
+# --- workspace point cloud ---------------------------------------------------------
+WORKSPACE_POINT_SIZE = 2.0    # pixels
+# Colormap stops (value in [0, 1], r, g, b), interpolated linearly (viridis-like).
+WORKSPACE_COLORMAP = (
+    (0.00, 0.267, 0.005, 0.329),
+    (0.25, 0.229, 0.322, 0.546),
+    (0.50, 0.128, 0.567, 0.551),
+    (0.75, 0.369, 0.789, 0.383),
+    (1.00, 0.993, 0.906, 0.144),
+)
+
+# --- camera -----------------------------------------------------------------------
+CAMERA_DISTANCE = 3.0         # metres from the target
+CAMERA_AZIMUTH_DEG = 45.0     # eye direction about world z, from +x
+CAMERA_ELEVATION_DEG = 25.0   # eye direction above the xy plane
+CAMERA_FOV_DEG = 45.0         # vertical field of view
+CAMERA_MAX_ELEVATION_DEG = 89.0   # |elevation| is clamped to this
+CAMERA_MIN_DISTANCE = 0.05    # metres
+CAMERA_MAX_DISTANCE = 200.0   # metres
+CAMERA_NEAR_FRAC = 0.01       # near plane at this fraction of the distance
+CAMERA_FAR_FRAC = 20.0        # far plane at this multiple of the distance ...
+CAMERA_FAR_MARGIN = 10.0      # ... plus this many metres
+CAMERA_FIT_MARGIN = 1.15      # fit() leaves this much room around the points
+CAMERA_FIT_MIN_RADIUS = 0.05  # metres; fit() frames at least a sphere this big
+
+# --- lighting (fixed-function) ------------------------------------------------------
+# Light 0 is a headlight (eye space, shines along the view); light 1 is fixed in
+# the world, from above.  Positions are homogeneous with w = 0 (directional).
+HEADLIGHT_DIRECTION = (0.3, 0.4, 1.0, 0.0)
+HEADLIGHT_DIFFUSE = (0.65, 0.65, 0.65, 1.0)
+SKYLIGHT_DIRECTION = (0.2, -0.3, 1.0, 0.0)
+SKYLIGHT_DIFFUSE = (0.30, 0.30, 0.30, 1.0)
+AMBIENT_LIGHT = (0.30, 0.30, 0.30, 1.0)
+SPECULAR_COLOR = (0.25, 0.25, 0.25, 1.0)
+SHININESS = 32.0
+
+# --- offscreen rendering --------------------------------------------------------------
+OSMESA_DEPTH_BITS = 24
+OSMESA_STENCIL_BITS = 0
+OSMESA_PACKAGE = "libosmesa6"  # Debian package that provides libOSMesa
+
+
+# ---------------------------------------------------------------------------
+# Window (simulator.py) constants — owned by the simulator/window engineer.
+# Key names are Qt key names without the "Key_" prefix; modifiers are "" or
+# "+"-joined names out of Shift, Ctrl, Alt.  The help overlay is generated from
+# KEY_BINDINGS and MOUSE_BINDINGS, and key presses are dispatched by looking
+# up (key, modifiers) in KEY_BINDINGS.
+# ---------------------------------------------------------------------------
+
+KEY_BINDINGS = (
+    # (key, modifiers, action name, description); consecutive rows with the same
+    # description share one help line
+    ("H", "", "toggle_help", "show / hide this help"),
+    ("Escape", "", "quit", "quit"),
+    ("T", "", "toggle_wireframe", "wireframe on / off"),
+    ("A", "", "toggle_alpha", "transparency on / off"),
+    ("0", "", "toggle_all_frames", "all joint frames on / off"),
+    ("1", "", "toggle_frame_1", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("2", "", "toggle_frame_2", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("3", "", "toggle_frame_3", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("4", "", "toggle_frame_4", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("5", "", "toggle_frame_5", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("6", "", "toggle_frame_6", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("7", "", "toggle_frame_7", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("8", "", "toggle_frame_8", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("9", "", "toggle_frame_9", "joint frame 1..9 on / off (all frames: dock list)"),
+    ("W", "", "zoom_in", "zoom in / out"),
+    ("S", "", "zoom_out", "zoom in / out"),
+    ("Left", "", "orbit_left", "orbit camera left / right"),
+    ("Right", "", "orbit_right", "orbit camera left / right"),
+    ("Up", "", "orbit_up", "orbit camera up / down"),
+    ("Down", "", "orbit_down", "orbit camera up / down"),
+    ("R", "", "reset_view", "reset view"),
+    ("P", "", "save_screenshot", "save a PNG screenshot (path in status bar)"),
+    ("E", "", "toggle_workspace", "workspace point cloud on / off"),
+    ("V", "", "toggle_vectors", "endeffector velocity arrows on / off"),
+    ("C", "", "toggle_demo", "circle demo (differential IK) on / off"),
+    ("G", "", "toggle_target", "IK target frame and ghost on / off"),
+    ("I", "", "target_x_plus", "move IK target +x / -x"),
+    ("K", "", "target_x_minus", "move IK target +x / -x"),
+    ("J", "", "target_y_plus", "move IK target +y / -y"),
+    ("L", "", "target_y_minus", "move IK target +y / -y"),
+    ("U", "", "target_z_plus", "move IK target +z / -z"),
+    ("O", "", "target_z_minus", "move IK target +z / -z"),
+    ("I", "Shift", "target_rx_plus", "rotate IK target +/- about world x"),
+    ("K", "Shift", "target_rx_minus", "rotate IK target +/- about world x"),
+    ("J", "Shift", "target_ry_plus", "rotate IK target +/- about world y"),
+    ("L", "Shift", "target_ry_minus", "rotate IK target +/- about world y"),
+    ("U", "Shift", "target_rz_plus", "rotate IK target +/- about world z"),
+    ("O", "Shift", "target_rz_minus", "rotate IK target +/- about world z"),
+)
+
+MOUSE_BINDINGS = (
+    # (gesture, description) — shown in the help overlay below the keys
+    ("left drag", "orbit camera"),
+    ("right / middle drag", "pan camera"),
+    ("wheel", "zoom"),
+    ("Ctrl + left drag", "move IK target in the view plane"),
+)
+
+# Window geometry and command line limits
+WINDOW_DEFAULT_SIZE = (1024, 768)    # px, --size default (window and screenshot)
+WINDOW_SIZE_LIMITS = (16, 8192)      # px, accepted range of each --size value
+DOCK_MIN_WIDTH = 260                 # px
+
+# Joint sliders: integer slider ticks per unit shown in the label
+SLIDER_TICKS_PER_DEG = 10            # revolute resolution 0.1 deg
+SLIDER_TICKS_PER_M = 1000            # prismatic resolution 1 mm
+UNLIMITED_REVOLUTE_RANGE_DEG = 180.0 # slider range of a revolute joint without limits
+UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without limits
+SLIDER_LABEL_FORMAT_REVOLUTE = "{name}: {value:+7.1f} deg"
+SLIDER_LABEL_FORMAT_PRISMATIC = "{name}: {value:+7.3f} m"
+
+# Status bar
+STATUS_FORMAT = ("{robot} | endeff xyz [m] {x:+.3f} {y:+.3f} {z:+.3f}"
+                 " | rpy [deg] {roll:+.1f} {pitch:+.1f} {yaw:+.1f} | {fps}")
+STATUS_FPS_FORMAT = "{fps:.0f} fps"
+STATUS_FPS_IDLE = "idle"
+STATUS_TARGET_UNREACHABLE = " | IK target UNREACHABLE (pos err {pos_err:.3f} m, rot err {rot_err_deg:.1f} deg)"
+STATUS_MESSAGE_MS = 5000             # how long transient status messages stay
+FPS_WINDOW_S = 1.0                   # frame rate = paints within the last second
+
+# Camera steps
+KEY_ORBIT_STEP_DEG = 5.0
+KEY_ZOOM_FACTOR = 1.15               # per W / S press
+MOUSE_ORBIT_DEG_PER_PX = 0.4
+WHEEL_ZOOM_FACTOR = 1.1              # per wheel notch (120 eighths of a degree)
+
+# IK target and animation
+TARGET_STEP_M = 0.02                 # per I/K/J/L/U/O press
+TARGET_STEP_DEG = 5.0                # per Shift+I/K/J/L/U/O press
+ANIM_INTERVAL_MS = 16                # animation / demo timer period
+ANIM_SPEED_REVOLUTE = 1.5            # rad/s, current joints moving toward the ghost
+ANIM_SPEED_PRISMATIC = 0.3           # m/s
+ANIM_ARRIVED_TOL = 1e-6              # rad or m
+
+# Circle demo (differential IK)
+DEMO_CIRCLE_RADIUS_M = 0.1
+DEMO_CIRCLE_PERIOD_S = 4.0
+DEMO_FEEDBACK_GAIN = 5.0             # 1/s, pulls the endeffector back onto the circle
+
+# Motion vectors: arrow length per unit velocity
+VECTOR_SCALE_LINEAR = 0.5            # m of arrow per m/s
+VECTOR_SCALE_ANGULAR = 0.1           # m of arrow per rad/s (colours: *_VELOCITY_COLOR above)
+
+# Workspace cloud
+WORKSPACE_DEFAULT_POINTS = 200_000
+WORKSPACE_SEED = 0
+
+# Help overlay (QPainter over the GL picture)
+HELP_FONT_FAMILY = "monospace"
+HELP_FONT_PT = 9
+HELP_MARGIN_PX = 12
+HELP_BACKGROUND_RGBA = (0, 0, 0, 190)
+HELP_TEXT_RGB = (235, 235, 235)
+
+# Screenshots saved with P (relative to the working directory)
+SCREENSHOT_NAME_FORMAT = "robot-sim-{robot}-{stamp}.png"
