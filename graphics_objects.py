@@ -60,6 +60,11 @@ class _LazyModule:
 
 
 GL: Any = _LazyModule("OpenGL.GL")
+# The unwrapped gl*Pointer entry points: PyOpenGL's wrappers keep every array passed to
+# them alive in per-context storage, which raises "no valid context" inside Qt's
+# contexts once windows have been closed and reopened.  The arrays here are consumed at
+# once (display lists) or are VBO offsets, so nothing needs keeping.
+GL_RAW: Any = _LazyModule("OpenGL.raw.GL.VERSION.GL_1_1")
 
 
 def require_osmesa_platform() -> None:
@@ -373,17 +378,27 @@ def _unit_meshes() -> dict[str, tuple[NDArray, NDArray]]:
     }
 
 
-def _client_arrays(vertices: NDArray, colors: NDArray | None = None, normals: NDArray | None = None) -> None:
-    """Point the fixed-function client arrays at ``vertices`` (and optional normals,
-    colours) and enable them; when a VBO is bound the arguments are byte offsets."""
+def _pointer(data: NDArray | ctypes.c_void_p) -> ctypes.c_void_p:
+    """Address of a contiguous array, or a VBO byte offset passed through."""
+    return data if isinstance(data, ctypes.c_void_p) else ctypes.c_void_p(data.ctypes.data)
+
+
+def _client_arrays(
+    vertices: NDArray | ctypes.c_void_p,
+    colors: NDArray | ctypes.c_void_p | None = None,
+    normals: NDArray | None = None,
+) -> None:
+    """Point the fixed-function client arrays at contiguous float32 ``vertices`` (and
+    optional float32 normals, uint8 RGBA colours) and enable them; when a VBO is bound
+    the arguments are byte offsets.  The arrays must outlive the draw call."""
     GL.glEnableClientState(GL.GL_VERTEX_ARRAY)
-    GL.glVertexPointer(3, GL.GL_FLOAT, 0, vertices)
+    GL_RAW.glVertexPointer(3, GL.GL_FLOAT, 0, _pointer(vertices))
     if normals is not None:
         GL.glEnableClientState(GL.GL_NORMAL_ARRAY)
-        GL.glNormalPointer(GL.GL_FLOAT, 0, normals)
+        GL_RAW.glNormalPointer(GL.GL_FLOAT, 0, _pointer(normals))
     if colors is not None:
         GL.glEnableClientState(GL.GL_COLOR_ARRAY)
-        GL.glColorPointer(4, GL.GL_UNSIGNED_BYTE, 0, colors)
+        GL_RAW.glColorPointer(4, GL.GL_UNSIGNED_BYTE, 0, _pointer(colors))
 
 
 def _disable_client_arrays() -> None:
@@ -829,9 +844,12 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     Order: clear; opaque pass (ground, workspace cloud, robot when opaque); translucent
     pass (robot when ``options.alpha`` < 1, then the ghost), blended without depth
     writes; then, over a cleared depth buffer so nothing hides them, the annotations:
-    selected frames, the IK target and the vectors.
+    selected frames, the IK target and the vectors.  Raises RuntimeError when no GL
+    context is current.
     """
     width, height = max(int(width), 1), max(int(height), 1)
+    if _context_key() == 0:
+        raise RuntimeError("render_scene: no current OpenGL context (the host failed to create or bind one)")
     resources = _resources()
     resources.free_dead()
     kin = scene.kinematics

@@ -625,7 +625,11 @@ def qt_classes() -> Any:
         def paintGL(self) -> None:
             sim = self.window_.sim
             width, height = self.pixel_size()
-            go.render_scene(sim.camera, sim.scene(), sim.options, width, height)
+            try:
+                go.render_scene(sim.camera, sim.scene(), sim.options, width, height)
+            except RuntimeError as exc:  # an exception escaping paintGL aborts PyQt
+                self.window_.statusBar().showMessage(f"cannot draw: {exc}")
+                return
             self.paint_times.append(time.monotonic())
             self.window_.refresh_status()
 
