@@ -21,6 +21,7 @@ REACH_MAX = 20.0              # a robot larger than this is drawn at this scale
 # --- robot part sizes, as fractions of the reach ------------------------------
 LINK_RADIUS_FRAC = 0.018      # link cylinder radius
 JOINT_RADIUS_FRAC = 0.035     # revolute joint cylinder radius
+PEDESTAL_RADIUS_FRAC = 0.05   # column from the ground up to a raised base (frame 0)
 JOINT_LENGTH_FRAC = 0.10      # revolute joint cylinder length along its axis
 PRISMATIC_WIDTH_FRAC = 0.06   # prismatic joint box side across the axis
 PRISMATIC_LENGTH_FRAC = 0.14  # prismatic joint box length along the axis
@@ -31,6 +32,7 @@ MIN_LINK_LENGTH = 1e-6        # metres; shorter links and tool segments are not 
 # --- robot colours ---------------------------------------------------------------
 LINK_COLOR = (0.80, 0.80, 0.82, 1.0)      # light grey
 JOINT_COLOR = (0.30, 0.30, 0.33, 1.0)     # dark grey
+PEDESTAL_COLOR = (0.45, 0.45, 0.48, 1.0)  # mid grey
 ENDEFF_COLOR = (0.90, 0.08, 0.08, 1.0)    # red
 COM_COLOR = (0.10, 0.25, 0.95, 1.0)       # blue
 TRANSLUCENT_ALPHA = 0.35                  # robot alpha when transparency is on

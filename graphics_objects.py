@@ -714,7 +714,8 @@ class RobotGraphics:
     """The robot as in the DH tutorial: links are light-grey cylinders between successive
     frame origins, revolute joints dark-grey closed cylinders along their axes, prismatic
     joints dark-grey boxes along theirs, the endeffector a red sphere and each link's
-    centre of mass a small blue sphere."""
+    centre of mass a small blue sphere.  A base above the ground (frame 0 at z > 0)
+    stands on a grey pedestal."""
 
     def render(self, kinematics: Kinematics, options: GraphicsOptions, *, ghost: bool = False) -> None:
         """Draw the robot posed by ``kinematics`` (updated: world ``h_tf``, ``endeff_tf``,
@@ -736,8 +737,12 @@ class RobotGraphics:
         if options.wireframe:
             GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_LINE)
 
-        origins = np.array([tf.t() for tf in kinematics.h_tf])
+        origins = kinematics.frames[:, :3, 3]
         endeff = kinematics.endeff_tf.t()
+        if origins[0, 2] > 0.0:  # a raised base stands on a pedestal from the ground
+            color(gd.PEDESTAL_COLOR)
+            foot = origins[0] * (1.0, 1.0, 0.0)
+            _draw_along(resources.lists["joint"], foot, origins[0] - foot, sizes.reach * gd.PEDESTAL_RADIUS_FRAC, origins[0, 2])
         color(gd.LINK_COLOR)
         for start, end in zip(origins[:-1], origins[1:]):
             self._draw_link(resources, start, end, sizes.link_radius)
