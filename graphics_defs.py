@@ -25,7 +25,7 @@ PEDESTAL_RADIUS_FRAC = 0.05   # column from the ground up to a raised base (fram
 JOINT_LENGTH_FRAC = 0.10      # revolute joint cylinder length along its axis
 PRISMATIC_WIDTH_FRAC = 0.06   # prismatic joint box side across the axis
 PRISMATIC_LENGTH_FRAC = 0.14  # prismatic joint box length along the axis
-ENDEFF_RADIUS_FRAC = 0.035    # endeffector sphere radius
+ENDEFF_RADIUS_FRAC = 0.05     # endeffector sphere radius: larger than a joint, so a wrist centre shows it
 COM_RADIUS_FRAC = 0.022       # link centre-of-mass sphere radius
 MIN_LINK_LENGTH = 1e-6        # metres; shorter links and tool segments are not drawn
 
