@@ -10,9 +10,9 @@ look alike on screen; other lengths are in metres.
 BACKGROUND_COLOR = (0.16, 0.18, 0.22, 1.0)
 
 # --- tessellation of the unit meshes (built once per GL context) --------------
-CYLINDER_SLICES = 24          # segments around a cylinder, disk or cone
-SPHERE_SLICES = 24            # segments around a sphere (longitude)
-SPHERE_STACKS = 14            # segments pole to pole (latitude)
+CYLINDER_SLICES = 16          # segments around a cylinder, disk or cone
+SPHERE_SLICES = 16            # segments around a sphere (longitude)
+SPHERE_STACKS = 10            # segments pole to pole (latitude)
 
 # --- robot reach used to scale the parts (metres) -----------------------------
 REACH_MIN = 0.2               # a robot smaller than this is drawn at this scale

@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 import graphics_defs as gd
 from kinematics import Kinematics
 from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
-from transforms import HomogeneousTransform, angle_axis_from_vec_dir
+from transforms import HomogeneousTransform, rotations_z_onto
 
 RGBA = tuple[float, float, float, float]
 Vector = tuple[ArrayLike, ArrayLike, RGBA]  # (origin (3,), vector (3,), rgba) in the world
@@ -60,11 +60,13 @@ class _LazyModule:
 
 
 GL: Any = _LazyModule("OpenGL.GL")
-# The unwrapped gl*Pointer entry points: PyOpenGL's wrappers keep every array passed to
+# Unwrapped entry points.  PyOpenGL's gl*Pointer wrappers keep every array passed to
 # them alive in per-context storage, which raises "no valid context" inside Qt's
-# contexts once windows have been closed and reopened.  The arrays here are consumed at
-# once (display lists) or are VBO offsets, so nothing needs keeping.
+# contexts once windows have been closed and reopened; the arrays here are consumed at
+# once (display lists) or are VBO offsets, so nothing needs keeping.  The per-part
+# matrix loads and list calls of a frame also skip the wrappers' argument conversion.
 GL_RAW: Any = _LazyModule("OpenGL.raw.GL.VERSION.GL_1_1")
+_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
 def require_osmesa_platform() -> None:
@@ -428,6 +430,10 @@ class _ContextResources:
         self._ground_lists: dict[tuple[float, ...], int] = {}
         self._cloud_buffers: dict[int, int] = {}
         self._dead_buffers: list[int] = []
+        # the cloud's picture for one view: (view key, RGBA bytes, depth floats), and the
+        # view of the last frame that drew the cloud; see _draw_cloud_layer
+        self.cloud_layer: tuple[tuple[Any, ...], NDArray, NDArray] | None = None
+        self.cloud_view: tuple[Any, ...] | None = None
 
     def valid(self) -> bool:
         """True while the current context still holds these objects (a context created
@@ -462,6 +468,8 @@ class _ContextResources:
         buffer = self._cloud_buffers.pop(key, None)
         if buffer is not None:
             self._dead_buffers.append(buffer)
+        if self.cloud_layer is not None and self.cloud_layer[0][0] == key:
+            self.cloud_layer = None
 
     def free_dead(self) -> None:
         """Delete buffers of collected clouds (the context must be current)."""
@@ -517,40 +525,57 @@ def _gl_matrix(mat: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.ascontiguousarray(np.asarray(mat, dtype=np.float64).T)
 
 
-def _draw_along(list_id: int, origin: ArrayLike, vec: ArrayLike, radius: float, length: float) -> None:
-    """Call a unit mesh modelled along +z from 0 to 1, scaled to ``radius`` across and
-    ``length`` along, placed at world ``origin`` and turned to point along ``vec``."""
-    angle, axis = angle_axis_from_vec_dir(_Z_AXIS, vec)
-    GL.glPushMatrix()
-    GL.glTranslated(*np.asarray(origin, dtype=float))
-    GL.glRotated(math.degrees(angle), *axis)
-    GL.glScaled(radius, radius, length)
-    GL.glCallList(list_id)
-    GL.glPopMatrix()
+def _along(origins: ArrayLike, vecs: ArrayLike, radii: ArrayLike, lengths: ArrayLike) -> NDArray[np.float64]:
+    """World placements (N, 4, 4) of unit meshes modelled along +z from 0 to 1 with radius
+    1: scaled to ``radii`` across and ``lengths`` along, starting at ``origins`` (N, 3)
+    and pointing along ``vecs`` (N, 3)."""
+    rot = rotations_z_onto(vecs)
+    n = len(rot)
+    mats = np.zeros((n, 4, 4))
+    mats[:, :3, :3] = rot * np.stack(np.broadcast_arrays(radii, radii, lengths), axis=-1).reshape(n, 1, 3)
+    mats[:, :3, 3] = origins
+    mats[:, 3, 3] = 1.0
+    return mats
 
 
-def _draw_sphere(resources: _ContextResources, centre: ArrayLike, radius: float) -> None:
-    GL.glPushMatrix()
-    GL.glTranslated(*np.asarray(centre, dtype=float))
-    GL.glScaled(radius, radius, radius)
-    GL.glCallList(resources.lists["sphere"])
-    GL.glPopMatrix()
+def _spheres(centres: ArrayLike, radius: float) -> NDArray[np.float64]:
+    """World placements (N, 4, 4) of the unit sphere scaled to ``radius`` at ``centres``."""
+    centres = np.asarray(centres, dtype=float).reshape(-1, 3)
+    mats = np.zeros((len(centres), 4, 4))
+    mats[:, [0, 1, 2], [0, 1, 2]] = radius
+    mats[:, :3, 3] = centres
+    mats[:, 3, 3] = 1.0
+    return mats
 
 
-def _draw_arrow(
-    resources: _ContextResources, origin: ArrayLike, vec: ArrayLike, shaft_radius: float, head_radius: float,
+def _call_list_at(list_id: int, placements: NDArray[np.float64]) -> None:
+    """Draw display list ``list_id`` once per world placement (N, 4, 4): one matrix load
+    and one call each (PyOpenGL's per-call cost dominates these frames), composed with
+    the current modelview (the camera's view)."""
+    if len(placements) == 0:
+        return
+    view = np.asarray(GL.glGetDoublev(GL.GL_MODELVIEW_MATRIX), dtype=np.float64).reshape(4, 4)
+    for mat in np.ascontiguousarray(np.swapaxes(view.T @ placements, 1, 2)):
+        GL_RAW.glLoadMatrixd(mat.ctypes.data_as(_DOUBLE_P))
+        GL_RAW.glCallList(list_id)
+    GL.glLoadMatrixd(view)
+
+
+def _draw_arrows(
+    resources: _ContextResources, origins: ArrayLike, vecs: ArrayLike, shaft_radius: float, head_radius: float,
     head_length: float,
 ) -> None:
-    """Arrow (cylinder shaft + cone tip) from world ``origin`` to ``origin + vec``; the
-    head is at most half the arrow.  Zero-length vectors draw nothing."""
-    vec = np.asarray(vec, dtype=float)
-    length = float(np.linalg.norm(vec))
-    if length < gd.MIN_LINK_LENGTH:
-        return
-    head = min(head_length, 0.5 * length)
-    shaft_end = np.asarray(origin, dtype=float) + vec * ((length - head) / length)
-    _draw_along(resources.lists["cylinder"], origin, vec, shaft_radius, length - head)
-    _draw_along(resources.lists["cone"], shaft_end, vec, head_radius, head)
+    """Arrows (cylinder shaft + cone tip) from world ``origins`` (N, 3) to ``origins + vecs``;
+    a head is at most half its arrow.  Zero-length vectors draw nothing."""
+    origins = np.asarray(origins, dtype=float).reshape(-1, 3)
+    vecs = np.asarray(vecs, dtype=float).reshape(-1, 3)
+    lengths = np.linalg.norm(vecs, axis=1)
+    keep = lengths >= gd.MIN_LINK_LENGTH
+    origins, vecs, lengths = origins[keep], vecs[keep], lengths[keep]
+    heads = np.minimum(head_length, 0.5 * lengths)
+    shaft_ends = origins + vecs * ((lengths - heads) / np.where(lengths > 0.0, lengths, 1.0))[:, None]
+    _call_list_at(resources.lists["cylinder"], _along(origins, vecs, shaft_radius, lengths - heads))
+    _call_list_at(resources.lists["cone"], _along(shaft_ends, vecs, head_radius, heads))
 
 
 class AxesGraphics:
@@ -561,13 +586,17 @@ class AxesGraphics:
 
     def render(self, tf: HomogeneousTransform) -> None:
         """Draw the axes of frame ``tf`` (pose in the world)."""
+        self.render_many(tf.mat[None])
+
+    def render_many(self, frames: NDArray[np.float64]) -> None:
+        """Draw the axes of every frame in ``frames`` (N, 4, 4) (poses in the world)."""
         resources = _resources()
-        origin, rot = tf.t(), tf.R()
         for column, color in enumerate((gd.AXIS_X_COLOR, gd.AXIS_Y_COLOR, gd.AXIS_Z_COLOR)):
             _set_color(color)
-            _draw_arrow(
-                resources, origin, rot[:, column] * self.length, self.length * gd.FRAME_SHAFT_RADIUS_FRAC,
-                self.length * gd.FRAME_HEAD_RADIUS_FRAC, self.length * gd.FRAME_HEAD_LENGTH_FRAC,
+            _draw_arrows(
+                resources, frames[:, :3, 3], frames[:, :3, column] * self.length,
+                self.length * gd.FRAME_SHAFT_RADIUS_FRAC, self.length * gd.FRAME_HEAD_RADIUS_FRAC,
+                self.length * gd.FRAME_HEAD_LENGTH_FRAC,
             )
 
 
@@ -580,7 +609,7 @@ class VectorGraphics:
     def render(self, origin: ArrayLike, vec: ArrayLike, rgba: RGBA) -> None:
         """Draw ``vec`` (world, drawn at 1 m per unit) starting at world point ``origin``."""
         _set_color(rgba)
-        _draw_arrow(
+        _draw_arrows(
             _resources(), origin, vec, self.reach * gd.VECTOR_SHAFT_RADIUS_FRAC,
             self.reach * gd.VECTOR_HEAD_RADIUS_FRAC, self.reach * gd.VECTOR_HEAD_LENGTH_FRAC,
         )
@@ -737,26 +766,37 @@ class RobotGraphics:
         if options.wireframe:
             GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_LINE)
 
-        origins = kinematics.frames[:, :3, 3]
+        frames = kinematics.frames
+        origins = frames[:, :3, 3]
         endeff = kinematics.endeff_tf.t()
         if origins[0, 2] > 0.0:  # a raised base stands on a pedestal from the ground
             color(gd.PEDESTAL_COLOR)
             foot = origins[0] * (1.0, 1.0, 0.0)
-            _draw_along(resources.lists["joint"], foot, origins[0] - foot, sizes.reach * gd.PEDESTAL_RADIUS_FRAC, origins[0, 2])
-        color(gd.LINK_COLOR)
-        for start, end in zip(origins[:-1], origins[1:]):
-            self._draw_link(resources, start, end, sizes.link_radius)
-        self._draw_link(resources, origins[-1], endeff, sizes.link_radius)  # tool segment
+            pedestal = _along(foot[None], (origins[0] - foot)[None], sizes.reach * gd.PEDESTAL_RADIUS_FRAC, origins[0, 2])
+            _call_list_at(resources.lists["joint"], pedestal)
 
+        # links between successive frame origins, then the tool segment
+        chain = np.vstack([origins, endeff])
+        vecs = np.diff(chain, axis=0)
+        lengths = np.linalg.norm(vecs, axis=1)
+        keep = lengths >= gd.MIN_LINK_LENGTH
+        color(gd.LINK_COLOR)
+        _call_list_at(resources.lists["cylinder"], _along(chain[:-1][keep], vecs[keep], sizes.link_radius, lengths[keep]))
+
+        # joint i+1 sits at frame i along its z axis: revolute a closed cylinder centred
+        # there, prismatic a box
+        revolute = robot.jtype == JTYPE_REVOLUTE
+        cylinder = np.diag([sizes.joint_radius, sizes.joint_radius, sizes.joint_length, 1.0])
+        cylinder[2, 3] = -0.5 * sizes.joint_length
+        width, length = sizes.reach * gd.PRISMATIC_WIDTH_FRAC, sizes.reach * gd.PRISMATIC_LENGTH_FRAC
         color(gd.JOINT_COLOR)
-        for tf, jtype in zip(kinematics.h_tf[:-1], robot.jtype):
-            self._draw_joint(resources, tf, int(jtype), sizes)
+        _call_list_at(resources.lists["joint"], frames[:-1][revolute] @ cylinder)
+        _call_list_at(resources.lists["box"], frames[:-1][~revolute] @ np.diag([width, width, length, 1.0]))
 
         color(gd.ENDEFF_COLOR)
-        _draw_sphere(resources, endeff, sizes.reach * gd.ENDEFF_RADIUS_FRAC)
+        _call_list_at(resources.lists["sphere"], _spheres(endeff, sizes.reach * gd.ENDEFF_RADIUS_FRAC))
         color(gd.COM_COLOR)
-        for com in np.asarray(kinematics.link_com)[1:]:
-            _draw_sphere(resources, com, sizes.reach * gd.COM_RADIUS_FRAC)
+        _call_list_at(resources.lists["sphere"], _spheres(kinematics.link_com[1:], sizes.reach * gd.COM_RADIUS_FRAC))
 
         GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_FILL)
         if translucent:
@@ -768,33 +808,10 @@ class RobotGraphics:
         ``show_frames[i]`` (indices past the robot's frames are ignored) and
         ``endeff_tf`` when ``show_endeff_frame``."""
         axes = AxesGraphics(RobotSizes(robot_reach(kinematics.robot)).frame_length)
-        for tf, shown in zip(kinematics.h_tf, options.show_frames):
-            if shown:
-                axes.render(tf)
+        shown = kinematics.frames[np.flatnonzero(options.show_frames[: len(kinematics.frames)])]
         if options.show_endeff_frame:
-            axes.render(kinematics.endeff_tf)
-
-    @staticmethod
-    def _draw_link(resources: _ContextResources, start: NDArray, end: NDArray, radius: float) -> None:
-        vec = end - start
-        length = float(np.linalg.norm(vec))
-        if length >= gd.MIN_LINK_LENGTH:
-            _draw_along(resources.lists["cylinder"], start, vec, radius, length)
-
-    @staticmethod
-    def _draw_joint(resources: _ContextResources, tf: HomogeneousTransform, jtype: int, sizes: RobotSizes) -> None:
-        """A joint centred at the origin of ``tf`` along its z axis (the joint axis)."""
-        GL.glPushMatrix()
-        GL.glMultMatrixd(_gl_matrix(tf.mat))
-        if jtype == JTYPE_REVOLUTE:
-            GL.glTranslated(0.0, 0.0, -0.5 * sizes.joint_length)
-            GL.glScaled(sizes.joint_radius, sizes.joint_radius, sizes.joint_length)
-            GL.glCallList(resources.lists["joint"])
-        else:
-            width = sizes.reach * gd.PRISMATIC_WIDTH_FRAC
-            GL.glScaled(width, width, sizes.reach * gd.PRISMATIC_LENGTH_FRAC)
-            GL.glCallList(resources.lists["box"])
-        GL.glPopMatrix()
+            shown = np.concatenate([shown, kinematics.endeff_tf.mat[None]])
+        axes.render_many(shown)
 
 
 # ------------------------------------------------------------------------- scene
@@ -842,6 +859,45 @@ def _setup_lights(view: NDArray[np.float64]) -> None:
     GL.glMaterialf(GL.GL_FRONT_AND_BACK, GL.GL_SHININESS, gd.SHININESS)
 
 
+def _cloud_from_layer(resources: _ContextResources, cloud: WorkspaceCloud, camera: Camera, width: int, height: int) -> bool:
+    """Put the workspace cloud into the just-cleared colour and depth buffers from its
+    picture for this view, if the view has stayed put; returns whether it did.
+
+    llvmpipe rasterises points at about 8 million per second, so 200 000 points cost
+    some 25 ms; but the cloud is fixed in the world, so its picture only changes with the
+    camera or the viewport.  The second consecutive frame for the same view draws the
+    points alone and reads back the colour and depth images; later frames for that view
+    write them back with two glDrawPixels (about 2 ms) before anything else is drawn, so
+    the depth test still hides and is hidden by the robot and the ground exactly as if
+    the points were drawn again.  While the view keeps changing (an orbiting camera) this
+    returns False and the caller draws the points after the ground as usual, with no
+    read-back stalling the pipeline.
+    """
+    key = (id(cloud), width, height, camera.view_matrix().tobytes(), camera.projection_matrix(width / height).tobytes())
+    layer = resources.cloud_layer
+    if layer is not None and layer[0] == key:
+        _, color, depth = layer
+        GL.glWindowPos2i(0, 0)
+        GL.glDepthFunc(GL.GL_ALWAYS)
+        GL.glColorMask(GL.GL_FALSE, GL.GL_FALSE, GL.GL_FALSE, GL.GL_FALSE)
+        GL.glDrawPixels(width, height, GL.GL_DEPTH_COMPONENT, GL.GL_FLOAT, depth)
+        GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
+        GL.glDisable(GL.GL_DEPTH_TEST)
+        GL.glDrawPixels(width, height, GL.GL_RGBA, GL.GL_UNSIGNED_BYTE, color)
+        GL.glEnable(GL.GL_DEPTH_TEST)
+        GL.glDepthFunc(GL.GL_LEQUAL)
+        return True
+    if resources.cloud_view != key:
+        resources.cloud_view = key
+        return False
+    cloud.render()
+    color = GL.glReadPixels(0, 0, width, height, GL.GL_RGBA, GL.GL_UNSIGNED_BYTE)
+    depth = GL.glReadPixels(0, 0, width, height, GL.GL_DEPTH_COMPONENT, GL.GL_FLOAT)
+    color = np.frombuffer(color, dtype=np.uint8) if isinstance(color, bytes) else np.asarray(color, dtype=np.uint8)
+    resources.cloud_layer = (key, np.ascontiguousarray(color), np.ascontiguousarray(depth, dtype=np.float32))
+    return True
+
+
 def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: int, height: int) -> None:
     """Draw ``scene`` seen by ``camera`` into the current GL context's framebuffer,
     ``width`` x ``height`` pixels.  The one render path of every host.
@@ -872,9 +928,11 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     GL.glDisable(GL.GL_CULL_FACE)
     GL.glBlendFunc(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA)
 
+    cloud = scene.workspace if options.show_workspace else None
+    cloud_drawn = cloud is not None and _cloud_from_layer(resources, cloud, camera, width, height)
     GroundGraphics.for_reach(reach, kin.h_tf[0].t()[:2]).render()
-    if options.show_workspace and scene.workspace is not None:
-        scene.workspace.render()
+    if cloud is not None and not cloud_drawn:
+        cloud.render()
     opaque = options.alpha >= 1.0
     if opaque:
         _ROBOT_GRAPHICS.render(kin, options)
@@ -888,7 +946,7 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     if options.show_target and scene.target_tf is not None:
         AxesGraphics(reach * gd.TARGET_FRAME_LENGTH_FRAC).render(scene.target_tf)
         _set_color(gd.TARGET_COLOR if scene.target_reachable else gd.TARGET_UNREACHABLE_COLOR)
-        _draw_sphere(resources, scene.target_tf.t(), reach * gd.TARGET_MARKER_RADIUS_FRAC)
+        _call_list_at(resources.lists["sphere"], _spheres(scene.target_tf.t(), reach * gd.TARGET_MARKER_RADIUS_FRAC))
     if options.show_vectors:
         arrows = VectorGraphics(reach)
         for origin, vec, rgba in scene.vectors:

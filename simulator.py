@@ -30,7 +30,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-import numpy as np
+# The renderer (llvmpipe) needs both cores; OpenBLAS worker threads spinning after the
+# small matrix products of each frame only compete with it.  Set before NumPy loads.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
 
 import graphics_defs as gd
 import graphics_objects as go

@@ -133,6 +133,27 @@ def angle_axis_from_vec_dir(vec: ArrayLike, dir: ArrayLike) -> tuple[float, Floa
     return float(np.arctan2(s, c)), axis / s
 
 
+def rotations_z_onto(dirs: ArrayLike) -> FloatArray:
+    """Rotations (N, 3, 3) whose z column is each direction ``dirs[i]`` (N, 3) normalised.
+
+    The batched counterpart of :func:`angle_axis_from_vec_dir` for drawables modelled
+    along z and symmetric about it (cylinders, cones): x and y complete a right-handed
+    orthonormal basis, with no preference about z.  Zero-length or non-finite directions
+    give the identity; every input gives a valid rotation, never NaN.
+    """
+    d = np.asarray(dirs, dtype=float).reshape(-1, 3)
+    norm = np.sqrt(np.einsum("ij,ij->i", d, d))
+    valid = np.isfinite(norm) & (norm > EPS_NORM)
+    z = np.where(valid[:, None], d / np.where(valid, norm, 1.0)[:, None], (0.0, 0.0, 1.0))
+    # the world axis least aligned with z (x unless z is close to it) gives a stable x
+    helper = np.where((np.abs(z[:, 0]) < 0.9)[:, None], (1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x, axis=1)[:, None]
+    out = np.stack([x, np.cross(z, x), z], axis=-1)
+    out[~valid] = np.eye(3)
+    return out
+
+
 def dh_transform(theta: ArrayLike, d: ArrayLike, a: ArrayLike, alpha: ArrayLike) -> FloatArray:
     """Standard DH transform ``A = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` from frame i-1 to frame i.
 

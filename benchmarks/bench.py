@@ -24,6 +24,7 @@ from typing import Callable
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # as simulator.py sets it for the renderer
 
 import numpy as np  # noqa: E402
 

@@ -20,6 +20,7 @@ from transforms import (
     rot_y,
     rot_z,
     rotation_log,
+    rotations_z_onto,
     rpy_from_rot,
 )
 
@@ -347,3 +348,25 @@ def test_is_rigid_transform_rejects(make_bad):
     m = random_rigid(np.random.default_rng(4))
     assert is_rigid_transform(m)
     assert not is_rigid_transform(make_bad(m))
+
+
+# ------------------------------------------------------------------ batched z alignment
+
+
+def test_rotations_z_onto_points_z_along_each_direction():
+    rng = np.random.default_rng(41)
+    dirs = np.vstack([rng.normal(size=(50, 3)), [[0, 0, -2.0], [0, 0, 3.0], [1e-3, 0, -1.0], [5.0, 0, 0], [0, 1e-14, 0]]])
+    rots = rotations_z_onto(dirs)
+    for d, R in zip(dirs, rots):
+        assert np.all(np.isfinite(R))
+        np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-12)
+        assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-12)
+        if np.linalg.norm(d) > 1e-12:
+            np.testing.assert_allclose(R[:, 2], d / np.linalg.norm(d), atol=1e-12)
+        else:
+            np.testing.assert_array_equal(R, np.eye(3))
+
+
+def test_rotations_z_onto_degenerate_directions_give_identity():
+    rots = rotations_z_onto([[0, 0, 0], [np.nan, 0, 1], [np.inf, 0, 0]])
+    np.testing.assert_array_equal(rots, np.broadcast_to(np.eye(3), (3, 3, 3)))
