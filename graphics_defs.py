@@ -105,7 +105,7 @@ SPECULAR_COLOR = (0.25, 0.25, 0.25, 1.0)
 SHININESS = 32.0
 
 # --- offscreen rendering --------------------------------------------------------------
-OSMESA_DEPTH_BITS = 24
+DEPTH_BUFFER_BITS = 24  # bits of depth buffer both hosts (OSMesa and the Qt widget) ask for
 OSMESA_STENCIL_BITS = 0
 OSMESA_PACKAGE = "libosmesa6"  # Debian package that provides libOSMesa
 

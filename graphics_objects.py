@@ -977,7 +977,7 @@ class OffscreenRenderer:
 
             self._osmesa = osmesa
             self._context = osmesa.OSMesaCreateContextExt(
-                osmesa.OSMESA_RGBA, gd.OSMESA_DEPTH_BITS, gd.OSMESA_STENCIL_BITS, 0, None
+                osmesa.OSMESA_RGBA, gd.DEPTH_BUFFER_BITS, gd.OSMESA_STENCIL_BITS, 0, None
             )
         except Exception as exc:  # ImportError, NullFunctionError, ctypes errors
             raise RuntimeError(f"{missing}: {exc}") from exc

@@ -604,6 +604,11 @@ def qt_classes() -> Any:
 
         def __init__(self, window: "MainWindow") -> None:
             super().__init__(window)
+            # Qt's default surface has no depth buffer: without one every part would
+            # paint over the others in drawing order
+            surface = QtGui.QSurfaceFormat()
+            surface.setDepthBufferSize(gd.DEPTH_BUFFER_BITS)
+            self.setFormat(surface)
             self.window_ = window
             self.help = HelpOverlay(self)
             self.paint_times: deque[float] = deque()
