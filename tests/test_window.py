@@ -141,6 +141,12 @@ def test_gl_view_has_focus_and_window_is_idle(app: QApplication, window: Any) ->
 
 
 @pytest.mark.window
+def test_gl_context_has_a_depth_buffer(app: QApplication, window: Any) -> None:
+    # Qt's default surface has none, and then parts paint over each other in drawing order
+    grab(window)
+    assert window.view.context().format().depthBufferSize() >= 24
+
+
 def close_up_on_link(win: Any, link: int = 2) -> None:
     """Aim the camera closely at the middle of ``link`` so its mesh lines are pixels apart."""
     frames = win.sim.kin.h_tf
