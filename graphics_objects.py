@@ -868,8 +868,9 @@ def _cloud_from_layer(resources: _ContextResources, cloud: WorkspaceCloud, camer
     camera or the viewport.  The second consecutive frame for the same view draws the
     points alone and reads back the colour and depth images; later frames for that view
     write them back with two glDrawPixels (about 2 ms) before anything else is drawn, so
-    the depth test still hides and is hidden by the robot and the ground exactly as if
-    the points were drawn again.  While the view keeps changing (an orbiting camera) this
+    the depth test still hides and is hidden by the robot and the ground as if the points
+    were drawn again (the one difference: a point lying exactly on the ground plane ties
+    with a grid line there, and the grid, drawn later, wins the tie).  While the view keeps changing (an orbiting camera) this
     returns False and the caller draws the points after the ground as usual, with no
     read-back stalling the pipeline.
     """
