@@ -169,10 +169,12 @@ class Camera:
         scale = self.world_per_pixel(viewport_height)
         self.target = self.target + scale * (-dx_px * right + dy_px * up)
 
-    def fit(self, points: ArrayLike) -> None:
+    def fit(self, points: ArrayLike, aspect: float = 1.0) -> None:
         """Aim at the centre of the bounding box of ``points`` (N, 3) (world, metres) and
-        set the distance so the sphere around them fills the vertical field of view.
-        Non-finite rows are ignored; with no finite point nothing changes."""
+        set the distance so the sphere around them fits the field of view of a viewport
+        ``aspect`` = width / height: the vertical one, or the horizontal one when the
+        viewport is taller than wide.  Non-finite rows are ignored; with no finite point
+        nothing changes."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
@@ -180,6 +182,7 @@ class Camera:
         centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
         radius = max(float(np.max(np.linalg.norm(pts - centre, axis=1))), gd.CAMERA_FIT_MIN_RADIUS)
         half_fov = math.radians(self.fov_deg) / 2.0
+        half_fov = min(half_fov, math.atan(math.tan(half_fov) * max(aspect, 1e-3)))
         self.target = centre
         self.distance = float(
             np.clip(gd.CAMERA_FIT_MARGIN * radius / math.sin(half_fov), gd.CAMERA_MIN_DISTANCE, gd.CAMERA_MAX_DISTANCE)

@@ -115,6 +115,7 @@ class Simulation:
     """
 
     robot: RobotParams
+    aspect: float = 1.0  # viewport width / height, for framing the robot
     state: RobotState = field(init=False)
     kin: Kinematics = field(init=False)
     ghost: Kinematics = field(init=False)
@@ -156,7 +157,7 @@ class Simulation:
         foot = origins[0] * np.array([1.0, 1.0, 0.0])
         cloud = np.zeros((0, 3)) if self.workspace is None else self.workspace.points
         self.camera.reset()
-        self.camera.fit(np.vstack([origins, foot, cloud]))
+        self.camera.fit(np.vstack([origins, foot, cloud]), self.aspect)
 
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
@@ -453,7 +454,7 @@ def config_from_args(args: argparse.Namespace) -> Config:
 
 def simulation_from_config(config: Config) -> Simulation:
     """A Simulation with the command line's q, frames and wireframe applied."""
-    sim = Simulation(config.robot)
+    sim = Simulation(config.robot, aspect=config.size[0] / config.size[1])
     if config.q is not None:
         sim.set_q(config.q)
         sim.fit_camera()
@@ -613,6 +614,7 @@ def qt_classes() -> Any:
             self.help = HelpOverlay(self)
             self.paint_times: deque[float] = deque()
             self.drag_pos: QtCore.QPoint | None = None
+            self.framed = False
             self.setFocusPolicy(Qt.StrongFocus)
             self.setMinimumSize(160, 120)
 
@@ -641,6 +643,15 @@ def qt_classes() -> Any:
                 return
             self.paint_times.append(time.monotonic())
             self.window_.refresh_status()
+
+        def resizeGL(self, width: int, height: int) -> None:
+            # frame the robot for the widget's real shape once it is known (the dock
+            # takes part of the window); later resizes leave the user's camera alone
+            sim = self.window_.sim
+            sim.aspect = width / max(height, 1)
+            if not self.framed:
+                sim.fit_camera()
+                self.framed = True
 
         def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
             super().resizeEvent(event)
@@ -795,7 +806,7 @@ def qt_classes() -> Any:
                 return
             previous = self.sim.options
             self.timer.stop()
-            self.sim = Simulation(robot)
+            self.sim = Simulation(robot, aspect=self.view.width() / max(self.view.height(), 1))
             for flag in ("wireframe", "alpha", "show_vectors"):
                 setattr(self.sim.options, flag, getattr(previous, flag))
             self.workspace_token += 1

@@ -713,3 +713,17 @@ def test_a_second_renderer_agrees_and_refuses_after_close(render: Frames) -> Non
     with pytest.raises(RuntimeError, match="after close"):
         other.render(camera, go.Scene(kin), options)
     assert np.array_equal(render(camera, go.Scene(kin), options), first)
+
+
+@pytest.mark.parametrize("aspect", [0.4, 1.0, 2.5])
+def test_fit_keeps_every_point_in_a_viewport_of_any_shape(aspect: float) -> None:
+    rng = np.random.default_rng(17)
+    points = rng.normal(size=(200, 3)) * [1.5, 0.3, 0.8] + [0.2, -0.1, 0.9]
+    width, height = round(300 * aspect), 300
+    camera = go.Camera()
+    camera.fit(points, aspect)
+    px = camera.project(points, width, height)
+    assert np.all((px[:, 0] >= 0) & (px[:, 0] < width) & (px[:, 1] >= 0) & (px[:, 1] < height))
+    # and it is a fit, not a zoom-out: the cloud spans a good part of the narrower side
+    span = np.ptp(px, axis=0) / [width, height]
+    assert span.max() > 0.4
