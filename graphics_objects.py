@@ -15,6 +15,7 @@ so :func:`require_osmesa_platform` can still choose PyOpenGL's platform after im
 from __future__ import annotations
 
 import ctypes
+import functools
 import importlib
 import math
 import os
@@ -509,10 +510,12 @@ def _resources() -> _ContextResources:
 # --------------------------------------------------------------------- drawables
 
 
+@functools.lru_cache(maxsize=64)
 def robot_reach(robot: RobotParams) -> float:
     """Characteristic size of ``robot`` in metres: the sum of |a| and |d| over its joints
     (a prismatic joint's d counted at its largest finite limit) plus the tool offset,
-    clamped to [``REACH_MIN``, ``REACH_MAX``].  Part sizes are fractions of it."""
+    clamped to [``REACH_MIN``, ``REACH_MAX``].  Part sizes are fractions of it.  Computed
+    once per robot (parameters are immutable), not on each of a frame's three uses."""
     stroke = np.where(np.isfinite(robot.q_max), np.abs(robot.q_max), np.abs(robot.q_home))
     d = np.abs(robot.dh_d) + np.where(robot.jtype == JTYPE_PRISMATIC, stroke, 0.0)
     total = float(np.sum(np.abs(robot.dh_a)) + np.sum(d) + np.linalg.norm(robot.endeff_tf.t()))

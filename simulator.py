@@ -286,7 +286,7 @@ class Simulation:
             ghost=self.ghost if self.target_tf is not None else None,
             target_tf=self.target_tf,
             target_reachable=self.target_reachable,
-            vectors=self.velocity_vectors(),
+            vectors=self.velocity_vectors() if self.options.show_vectors else [],
             workspace=self.workspace,
         )
 
