@@ -181,6 +181,15 @@ def load_robot(name_or_path: str | Path) -> RobotParams:
     return _parse_robot(data, path)
 
 
+def parse_robot(data: dict[str, Any], path: str | Path) -> RobotParams:
+    """Validate the parsed TOML ``data`` of a robot file and build its parameters.
+
+    ``path`` names the file in error messages and becomes ``RobotParams.source``; raises
+    RobotDefinitionError like :func:`load_robot` (which reads the file and calls this).
+    """
+    return _parse_robot(data, Path(path))
+
+
 class _Checker:
     """Validates fields of one robot file; every error names the file and the field."""
 
