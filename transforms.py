@@ -64,6 +64,29 @@ def rpy_from_rot(R: ArrayLike) -> tuple[float, float, float]:
     return 0.0, pitch, math.atan2(-R[0, 1], R[1, 1])
 
 
+def quaternion_from_rot(R: ArrayLike) -> FloatArray:
+    """Unit quaternion (w, x, y, z) of a rotation matrix, with w >= 0.
+
+    ``(cos(θ/2), sin(θ/2)·axis)`` for a rotation of θ about ``axis``; computed from the
+    largest of the four squared components (Shepperd), so it is accurate at every angle.
+    """
+    R = np.asarray(R, dtype=float)
+    trace = R[0, 0] + R[1, 1] + R[2, 2]
+    squares = np.array([1.0 + trace, 1.0 + 2.0 * R[0, 0] - trace,
+                        1.0 + 2.0 * R[1, 1] - trace, 1.0 + 2.0 * R[2, 2] - trace])
+    k = int(np.argmax(squares))
+    big = 0.5 * math.sqrt(squares[k])
+    quarter = 0.25 / big
+    w_x_y_z = {
+        0: (big, (R[2, 1] - R[1, 2]) * quarter, (R[0, 2] - R[2, 0]) * quarter, (R[1, 0] - R[0, 1]) * quarter),
+        1: ((R[2, 1] - R[1, 2]) * quarter, big, (R[0, 1] + R[1, 0]) * quarter, (R[0, 2] + R[2, 0]) * quarter),
+        2: ((R[0, 2] - R[2, 0]) * quarter, (R[0, 1] + R[1, 0]) * quarter, big, (R[1, 2] + R[2, 1]) * quarter),
+        3: ((R[1, 0] - R[0, 1]) * quarter, (R[0, 2] + R[2, 0]) * quarter, (R[1, 2] + R[2, 1]) * quarter, big),
+    }[k]
+    quat = np.array(w_x_y_z)
+    return quat if quat[0] >= 0.0 else -quat
+
+
 def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
     """Rotation (3, 3) of ``angle`` radians about ``axis`` (normalised here; Rodrigues)."""
     k = np.asarray(axis, dtype=float).reshape(3)

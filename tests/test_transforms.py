@@ -14,6 +14,7 @@ from transforms import (
     angle_axis_from_vec_dir,
     dh_transform,
     is_rigid_transform,
+    quaternion_from_rot,
     rot_from_angle_axis,
     rot_from_rpy,
     rot_x,
@@ -276,6 +277,23 @@ def test_rot_from_angle_axis_is_rodrigues(angle, axis):
 
 def test_rot_from_angle_axis_worked_example():
     np.testing.assert_allclose(rot_from_angle_axis(math.pi / 2, [0, 0, 2]), rot_z(math.pi / 2), atol=1e-15)
+
+
+@given(st.floats(0.0, math.pi, allow_nan=False), vec3.filter(lambda v: np.linalg.norm(v) > 1e-3))
+def test_quaternion_is_half_angle_cos_and_sin_times_axis(angle, axis):
+    quat = quaternion_from_rot(rodrigues(angle, axis))
+    axis = axis / np.linalg.norm(axis)
+    expected = np.r_[math.cos(angle / 2), math.sin(angle / 2) * axis]
+    if abs(expected[0]) < 1e-9 and np.dot(quat[1:], expected[1:]) < 0:
+        expected = -expected  # a half turn: q and -q are the same rotation
+    np.testing.assert_allclose(quat, expected, atol=1e-9)
+    assert quat[0] >= 0.0
+
+
+def test_quaternion_worked_examples():
+    np.testing.assert_allclose(quaternion_from_rot(np.eye(3)), [1, 0, 0, 0])
+    np.testing.assert_allclose(quaternion_from_rot(rot_z(math.pi / 2)), [math.sqrt(0.5), 0, 0, math.sqrt(0.5)], atol=1e-15)
+    np.testing.assert_allclose(quaternion_from_rot(rot_x(math.pi)), [0, 1, 0, 0], atol=1e-15)
 
 
 # ------------------------------------------------------------------ rotation log
