@@ -2,10 +2,13 @@
 
 Frames and units
 ----------------
-* Standard DH: ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)`` maps frame i to frame i-1.
+* Standard DH: ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)`` maps frame i to frame i-1, and
+  joint i turns (or slides) about z of frame i-1.  Modified (Craig) DH, for robots whose
+  ``convention`` is ``"modified"``: ``A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)`` (row i
+  holds a_{i-1}, α_{i-1}), and joint i turns (or slides) about z of frame i.
 * Frame 0 in the world is ``world_tf @ robot.base_tf`` (``world_tf`` is where the robot
-  stands, identity by default); frame i = frame 0 · A_1 ⋯ A_i; joint i turns (or slides)
-  about z of frame i-1.  The endeffector (tool) frame is frame n · ``robot.endeff_tf``.
+  stands, identity by default); frame i = frame 0 · A_1 ⋯ A_i.  The endeffector (tool)
+  frame is frame n · ``robot.endeff_tf``.
 * Joint vector q: radians for revolute joints, metres for prismatic ones.
 * Twists and Jacobians are stacked ``[linear velocity (m/s); angular velocity (rad/s)]``
   and expressed in the world frame, the linear part at the endeffector origin.
@@ -71,6 +74,9 @@ class _ChainModel:
     def __init__(self, robot: RobotParams) -> None:
         self.robot = robot
         self.n = robot.n_dofs
+        self.modified = robot.is_modified
+        # joint i+1 (0-based column i) turns about z of frame i (standard) or i+1 (modified)
+        self.axis_frame = 1 if self.modified else 0
         self.revolute = robot.jtype == JTYPE_REVOLUTE
         self.rev_index = np.flatnonzero(self.revolute)
         self.alpha_kind = [_alpha_kind(al) for al in robot.dh_alpha]
@@ -83,16 +89,7 @@ class _ChainModel:
         self.tool = tool
         self.tool_rotates = not np.allclose(tool[:3, :3], np.eye(3), atol=0.0, rtol=0.0)
         self.tool_translates = bool(np.any(tool[:3, 3] != 0.0))
-        # A_i = basis_i[0] + cos θ_i basis_i[1] + sin θ_i basis_i[2] + d_i basis_i[3]
-        basis = np.zeros((self.n, 4, 4, 4))
-        ca, sa, a = self.ca, self.sa, robot.dh_a
-        basis[:, 0, 2, 1], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = sa, ca, 1.0
-        basis[:, 1, 0, 0], basis[:, 1, 0, 3] = 1.0, a
-        basis[:, 1, 1, 1], basis[:, 1, 1, 2] = ca, -sa
-        basis[:, 2, 1, 0], basis[:, 2, 1, 3] = 1.0, a
-        basis[:, 2, 0, 1], basis[:, 2, 0, 2] = -ca, sa
-        basis[:, 3, 2, 3] = 1.0
-        self.basis = basis.reshape(self.n, 4, 16)
+        self.basis = _link_basis(self.ca, self.sa, robot.dh_a, self.modified).reshape(self.n, 4, 16)
         # link COMs = com_weights @ frame origins: link_com[0] at frame 0, link_com[i] at
         # fraction f_i from frame i-1 to frame i.
         weights = np.zeros((self.n + 1, self.n + 1))
@@ -123,10 +120,15 @@ class _ChainModel:
         r = self.robot
         return np.where(self.revolute, r.dh_th + q, r.dh_th), np.where(self.revolute, r.dh_d, r.dh_d + q)
 
+    def axis_frames(self, frames: FloatArray) -> FloatArray:
+        """The n frames (n, 4, 4) whose z axis and origin carry joints 1..n, from frames 0..n."""
+        return frames[self.axis_frame : self.axis_frame + self.n]
+
     def jacobian(self, frames: FloatArray, p_e: FloatArray) -> FloatArray:
         """Geometric Jacobian (6, n) at world point ``p_e`` from world frames 0..n."""
-        z = frames[:-1, :3, 2]
-        lin = np.where(self.revolute[:, None], _cross(z, p_e - frames[:-1, :3, 3]), z)
+        axes = self.axis_frames(frames)
+        z = axes[:, :3, 2]
+        lin = np.where(self.revolute[:, None], _cross(z, p_e - axes[:, :3, 3]), z)
         return np.concatenate([lin.T, (z * self.revolute[:, None]).T])
 
     def moving_position_rows(self) -> FloatArray:
@@ -173,50 +175,72 @@ class _ChainModel:
                 k += 1
             else:
                 c, s = self.ct_const[j], self.st_const[j]
-            if self.revolute[j] or s != 0.0:
-                # x' = c x + s y ;  u = -s x + c y   (rotation about the old z by θ)
-                np.multiply(X, s, out=tmp)
-                np.multiply(Y, c, out=U)
-                U -= tmp
-                X *= c
-                np.multiply(Y, s, out=tmp)
-                X += tmp
-                Y, U = U, Y
-            # translation along the old z by d, then along the new x by a
-            if self.revolute[j]:
-                if self.robot.dh_d[j] != 0.0:
-                    np.multiply(Z, self.robot.dh_d[j], out=tmp)
-                    P += tmp
+            d = Q[:, j] + self.robot.dh_d[j] if not self.revolute[j] else self.robot.dh_d[j]
+            if self.modified:
+                # Rx(α_{j-1}) Tx(a_{j-1}) Rz(θ_j) Tz(d_j)
+                Y, Z, U = self._twist(j, Y, Z, U, tmp)
+                self._slide(P, X, self.robot.dh_a[j], tmp)
+                X, Y, U = self._turn(j, c, s, X, Y, U, tmp)
+                self._slide(P, Z, d, tmp)
             else:
-                dq = Q[:, j] + self.robot.dh_d[j]
-                np.multiply(Z, dq, out=tmp)
-                P += tmp
-            if self.robot.dh_a[j] != 0.0:
-                np.multiply(X, self.robot.dh_a[j], out=tmp)
-                P += tmp
-            # rotation about the new x by α: y' = cα u + sα z ; z' = -sα u + cα z
-            kind = self.alpha_kind[j]
-            if kind == _ALPHA_PLUS90:
-                np.negative(Y, out=Y)
-                Y, Z = Z, Y
-            elif kind == _ALPHA_MINUS90:
-                np.negative(Z, out=Z)
-                Y, Z = Z, Y
-            elif kind == _ALPHA_PI:
-                np.negative(Y, out=Y)
-                np.negative(Z, out=Z)
-            elif kind == _ALPHA_GENERAL:
-                ca, sa = self.ca[j], self.sa[j]
-                np.multiply(Y, ca, out=U)
-                np.multiply(Z, sa, out=tmp)
-                U += tmp
-                Z *= ca
-                Y *= sa
-                Z -= Y
-                Y, U = U, Y
+                # Rz(θ_j) Tz(d_j) Tx(a_j) Rx(α_j)
+                X, Y, U = self._turn(j, c, s, X, Y, U, tmp)
+                self._slide(P, Z, d, tmp)
+                self._slide(P, X, self.robot.dh_a[j], tmp)
+                Y, Z, U = self._twist(j, Y, Z, U, tmp)
             if sink is not None:
                 sink(j + 1, X, Y, Z, P)
         return self._apply_tool(X, Y, Z, P)
+
+    def _turn(
+        self, j: int, c: FloatArray | float, s: FloatArray | float, X: FloatArray, Y: FloatArray, U: FloatArray, tmp: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Rotate the running frame about its z by θ_j (cos c, sin s): x' = c x + s y,
+        y' = -s x + c y, in place; returns the new X, Y and the spare buffer."""
+        if not self.revolute[j] and s == 0.0:
+            return X, Y, U
+        np.multiply(X, s, out=tmp)
+        np.multiply(Y, c, out=U)
+        U -= tmp
+        X *= c
+        np.multiply(Y, s, out=tmp)
+        X += tmp
+        return X, U, Y
+
+    def _twist(
+        self, j: int, Y: FloatArray, Z: FloatArray, U: FloatArray, tmp: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Rotate the running frame about its x by α_j: y' = cα y + sα z, z' = -sα y + cα z,
+        specialised for α = 0, ±90°, 180°; returns the new Y, Z and the spare buffer."""
+        kind = self.alpha_kind[j]
+        if kind == _ALPHA_PLUS90:
+            np.negative(Y, out=Y)
+            return Z, Y, U
+        if kind == _ALPHA_MINUS90:
+            np.negative(Z, out=Z)
+            return Z, Y, U
+        if kind == _ALPHA_PI:
+            np.negative(Y, out=Y)
+            np.negative(Z, out=Z)
+        elif kind == _ALPHA_GENERAL:
+            ca, sa = self.ca[j], self.sa[j]
+            np.multiply(Y, ca, out=U)
+            np.multiply(Z, sa, out=tmp)
+            U += tmp
+            Z *= ca
+            Y *= sa
+            Z -= Y
+            return U, Z, Y
+        return Y, Z, U
+
+    @staticmethod
+    def _slide(P: FloatArray, axis: FloatArray, length: FloatArray | float, tmp: FloatArray) -> None:
+        """Move the running origin P along ``axis`` by ``length`` (a constant or one per
+        configuration), in place; a zero constant costs nothing."""
+        if np.ndim(length) == 0 and length == 0.0:
+            return
+        np.multiply(axis, length, out=tmp)
+        P += tmp
 
     def _apply_tool(
         self, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray
@@ -227,6 +251,28 @@ class _ChainModel:
         if self.tool_rotates:
             X, Y, Z = (X * tool[0, c] + Y * tool[1, c] + Z * tool[2, c] for c in range(3))
         return X, Y, Z, P
+
+
+def _link_basis(ca: FloatArray, sa: FloatArray, a: FloatArray, modified: bool) -> FloatArray:
+    """Per-joint matrices (n, 4, 4, 4) with A_i = B[0] + cos θ_i B[1] + sin θ_i B[2] + d_i B[3].
+
+    Standard: Rz(θ) Tz(d) Tx(a) Rx(α).  Modified: Rx(α) Tx(a) Rz(θ) Tz(d), whose rows are
+    (c, −s, 0, a), (cα s, cα c, −sα, −sα d), (sα s, sα c, cα, cα d).
+    """
+    basis = np.zeros((len(a), 4, 4, 4))
+    if modified:
+        basis[:, 0, 0, 3], basis[:, 0, 1, 2], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = a, -sa, ca, 1.0
+        basis[:, 1, 0, 0], basis[:, 1, 1, 1], basis[:, 1, 2, 1] = 1.0, ca, sa
+        basis[:, 2, 0, 1], basis[:, 2, 1, 0], basis[:, 2, 2, 0] = -1.0, ca, sa
+        basis[:, 3, 1, 3], basis[:, 3, 2, 3] = -sa, ca
+        return basis
+    basis[:, 0, 2, 1], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = sa, ca, 1.0
+    basis[:, 1, 0, 0], basis[:, 1, 0, 3] = 1.0, a
+    basis[:, 1, 1, 1], basis[:, 1, 1, 2] = ca, -sa
+    basis[:, 2, 1, 0], basis[:, 2, 1, 3] = 1.0, a
+    basis[:, 2, 0, 1], basis[:, 2, 0, 2] = -ca, sa
+    basis[:, 3, 2, 3] = 1.0
+    return basis
 
 
 _MODELS: "weakref.WeakKeyDictionary[RobotParams, _ChainModel]" = weakref.WeakKeyDictionary()
@@ -295,8 +341,8 @@ def jacobian(
 
     q of shape (n,) gives (6, n); (N, n) gives (N, 6, n), batched like
     :func:`forward_kinematics`.  Rows are [linear velocity; angular velocity]: a revolute
-    column is [z × (p_e − p); z], a prismatic column [z; 0], with z and p the joint axis and
-    origin of the preceding frame.
+    column is [z × (p_e − p); z], a prismatic column [z; 0], with z and p the axis and
+    origin of the joint's frame: frame i-1 for joint i in standard DH, frame i in modified.
     """
     Q = check_joint_vector(q, robot.n_dofs)
     single = Q.ndim == 1
@@ -313,9 +359,10 @@ def jacobian(
         lever = np.empty((n, 3, M))
 
         def keep(i: int, X: FloatArray, Y: FloatArray, Z: FloatArray, P: FloatArray) -> None:
-            if i < n:  # frame i carries the axis and origin of joint i + 1
-                jac[3:, i] = Z
-                lever[i] = P
+            j = i - model.axis_frame  # frame i carries the axis and origin of column j
+            if 0 <= j < n:
+                jac[3:, j] = Z
+                lever[j] = P
 
         p_e = model.walk(Qc, world0, keep)[3]
         np.subtract(p_e, lever, out=lever)  # p_e − p_i
@@ -417,17 +464,19 @@ class Kinematics:
 
     def _derive_velocities(self) -> tuple[FloatArray, FloatArray, FloatArray]:
         # Accumulate joint contributions along the chain: ω_i = Σ_{j≤i} ω_j and, for any
-        # point x moving with link i, v(x) = Σ_{j≤i} (ω_j × (x − p_{j-1}) + v_j^prismatic)
-        # = ω_i × x + c_i with c_i = Σ_{j≤i} (v_j^prismatic − ω_j × p_{j-1}).  A COM sits
+        # point x moving with link i, v(x) = Σ_{j≤i} (ω_j × (x − p_j) + v_j^prismatic)
+        # = ω_i × x + c_i with c_i = Σ_{j≤i} (v_j^prismatic − ω_j × p_j), p_j a point of
+        # joint j's axis (origin of frame j-1 in standard DH, of frame j in modified).  A COM sits
         # at a fixed fraction between two frame origins, so its velocity is the same
         # blend of theirs (exact also while a prismatic joint stretches its link).
         if self._velocities is None:
             n, qd, revolute = self.robot.n_dofs, self._qd, self._model.revolute
-            origins, z = self.frames[:, :3, 3], self.frames[:-1, :3, 2]
+            axes = self._model.axis_frames(self.frames)
+            origins, z = self.frames[:, :3, 3], axes[:, :3, 2]
             qd_revolute = np.where(revolute, qd, 0.0)
             w_joint = z * qd_revolute[:, None]
             omega = np.cumsum(w_joint, axis=0)
-            crosses = _cross(np.concatenate([w_joint, omega]), np.concatenate([origins[:-1], origins[1:]]))
+            crosses = _cross(np.concatenate([w_joint, omega]), np.concatenate([axes[:, :3, 3], origins[1:]]))
             link_vel = np.zeros((n + 1, 6))
             link_vel[1:, :3] = crosses[n:] + np.cumsum(z * (qd - qd_revolute)[:, None] - crosses[:n], axis=0)
             link_vel[1:, 3:] = omega

@@ -26,11 +26,18 @@ JTYPE_REVOLUTE = 0
 JTYPE_PRISMATIC = 1
 JTYPE_NAMES = {"revolute": JTYPE_REVOLUTE, "prismatic": JTYPE_PRISMATIC}
 
+#: DH conventions.  Standard: ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)``, joint i turns
+#: about z of frame i-1.  Modified (Craig): row i holds (a_{i-1}, α_{i-1}, θ_i, d_i),
+#: ``A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)``, joint i turns about z of frame i.
+CONVENTION_STANDARD = "standard"
+CONVENTION_MODIFIED = "modified"
+CONVENTIONS = (CONVENTION_STANDARD, CONVENTION_MODIFIED)
+
 #: Directory holding the shipped robot files (installed alongside the modules).
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
-TOP_KEYS = {"name", "description", "units", "joints", "base", "tool"}
+TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com"}
 DH_KEYS = ("a", "alpha", "d", "theta")
@@ -50,9 +57,13 @@ def _frozen(values: Any) -> NDArray[np.float64]:
 
 @dataclass(frozen=True, eq=False)
 class RobotParams:
-    """Kinematic description of a fixed-base serial manipulator (standard DH, SI units).
+    """Kinematic description of a fixed-base serial manipulator (DH table, SI units).
 
-    Arrays have one entry per joint, ordered from the base.  ``base_tf`` maps frame 0 to the
+    Arrays have one entry per joint, ordered from the base.  ``convention`` says how the
+    table reads: ``"standard"`` (row i = a_i, α_i, θ_i, d_i of
+    ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)``; joint i turns about z_{i-1}) or
+    ``"modified"`` (Craig: row i = a_{i-1}, α_{i-1}, θ_i, d_i of
+    ``A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)``; joint i turns about z_i).  ``base_tf`` maps frame 0 to the
     robot's base (world when the robot is not moved), ``endeff_tf`` maps the endeffector
     (tool) frame to frame n.  Limits are ±inf where a joint is unlimited.  Instances are
     immutable and compare by identity (they key per-robot caches).
@@ -72,6 +83,18 @@ class RobotParams:
     endeff_tf: HomogeneousTransform = field(default_factory=HomogeneousTransform)
     source: str = ""
     description: str = ""
+    convention: str = CONVENTION_STANDARD
+
+    def __post_init__(self) -> None:
+        if self.convention not in CONVENTIONS:
+            raise ValueError(
+                f"convention must be 'standard' or 'modified', got {self.convention!r}"
+            )
+
+    @property
+    def is_modified(self) -> bool:
+        """True for a modified (Craig) DH table: joint i turns about z of frame i."""
+        return self.convention == CONVENTION_MODIFIED
 
     @property
     def n_dofs(self) -> int:
@@ -109,10 +132,12 @@ class RobotParams:
         link_com_frac: Any = None,
         base_tf: HomogeneousTransform | None = None,
         endeff_tf: HomogeneousTransform | None = None,
+        convention: str = CONVENTION_STANDARD,
     ) -> "RobotParams":
         """Build parameters from arrays in SI units (for programmatic robots and tests).
 
-        Defaults: home at 0, unlimited joints, link COMs at mid-link, identity base and tool.
+        Defaults: home at 0, unlimited joints, link COMs at mid-link, identity base and
+        tool, standard DH (``convention="modified"`` reads the rows as Craig's).
         """
         n = len(dh_a)
         arrays = {"dh_alpha": dh_alpha, "dh_d": dh_d, "dh_th": dh_th, "jtype": jtype}
@@ -134,6 +159,7 @@ class RobotParams:
             ),
             base_tf=base_tf or HomogeneousTransform(),
             endeff_tf=endeff_tf or HomogeneousTransform(),
+            convention=convention,
         )
 
 
@@ -241,6 +267,11 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
     if units not in UNITS:
         raise check.fail("units", f"unknown units {units!r}; accepted: 'deg' or 'rad'")
     to_rad = UNITS[units]
+    convention = data.get("convention", CONVENTION_STANDARD)
+    if convention not in CONVENTIONS:
+        raise check.fail(
+            "convention", f"unknown convention {convention!r}; accepted: 'standard' or 'modified'"
+        )
     joints = data["joints"]
     if not isinstance(joints, list) or not joints:
         raise check.fail("joints", "no joints: add one [[joints]] table per joint")
@@ -306,4 +337,5 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         endeff_tf=tool_tf,
         source=str(path),
         description=description,
+        convention=convention,
     )

@@ -1,5 +1,5 @@
 """SE(3) and SO(3) maths for the simulator: homogeneous transforms, rotations,
-the standard Denavit–Hartenberg transform and angle-axis helpers.
+the Denavit–Hartenberg transform (standard and modified) and angle-axis helpers.
 
 Conventions
 -----------
@@ -8,7 +8,8 @@ Conventions
   ``p_a = T_a_b @ p_b``.  Composition reads left to right along the chain:
   ``T_w_c = T_w_b @ T_b_c``.
 * Roll-pitch-yaw follows URDF: ``R = Rz(yaw) @ Ry(pitch) @ Rx(roll)``.
-* Standard DH: ``A = Rz(theta) @ Tz(d) @ Tx(a) @ Rx(alpha)``.
+* Standard DH: ``A = Rz(theta) @ Tz(d) @ Tx(a) @ Rx(alpha)``; modified (Craig) DH:
+  ``A = Rx(alpha) @ Tx(a) @ Rz(theta) @ Tz(d)`` with the row's a_{i-1}, alpha_{i-1}.
 
 This module knows nothing about robots or OpenGL.
 """
@@ -177,31 +178,38 @@ def rotations_z_onto(dirs: ArrayLike) -> FloatArray:
     return out
 
 
-def dh_transform(theta: ArrayLike, d: ArrayLike, a: ArrayLike, alpha: ArrayLike) -> FloatArray:
-    """Standard DH transform ``A = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` from frame i-1 to frame i.
+def dh_transform(
+    theta: ArrayLike, d: ArrayLike, a: ArrayLike, alpha: ArrayLike, convention: str = "standard"
+) -> FloatArray:
+    """DH link transform from frame i-1 to frame i (radians and metres).
 
-    Arguments are scalars or arrays that broadcast together (radians and metres);
-    the result has shape ``broadcast_shape + (4, 4)``: (4, 4) for scalars, (N, 4, 4) for
-    arrays of length N.
+    ``convention="standard"``: ``A = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` (a, alpha of row i).
+    ``convention="modified"`` (Craig): ``A = Rx(alpha) Tx(a) Rz(theta) Tz(d)``, where a and
+    alpha are the row's a_{i-1}, α_{i-1}.
+    Arguments are scalars or arrays that broadcast together; the result has shape
+    ``broadcast_shape + (4, 4)``: (4, 4) for scalars, (N, 4, 4) for arrays of length N.
     """
+    if convention not in ("standard", "modified"):
+        raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
     theta, d, a, alpha = np.broadcast_arrays(
         *(np.asarray(x, dtype=float) for x in (theta, d, a, alpha))
     )
     ct, st = np.cos(theta), np.sin(theta)
     ca, sa = np.cos(alpha), np.sin(alpha)
     out = np.zeros(theta.shape + (4, 4))
-    out[..., 0, 0] = ct
-    out[..., 0, 1] = -st * ca
-    out[..., 0, 2] = st * sa
-    out[..., 0, 3] = a * ct
-    out[..., 1, 0] = st
-    out[..., 1, 1] = ct * ca
-    out[..., 1, 2] = -ct * sa
-    out[..., 1, 3] = a * st
-    out[..., 2, 1] = sa
-    out[..., 2, 2] = ca
-    out[..., 2, 3] = d
     out[..., 3, 3] = 1.0
+    if convention == "standard":
+        out[..., 0, :] = np.stack([ct, -st * ca, st * sa, a * ct], axis=-1)
+        out[..., 1, :] = np.stack([st, ct * ca, -ct * sa, a * st], axis=-1)
+        out[..., 2, 1] = sa
+        out[..., 2, 2] = ca
+        out[..., 2, 3] = d
+    else:
+        out[..., 0, 0] = ct
+        out[..., 0, 1] = -st
+        out[..., 0, 3] = a
+        out[..., 1, :] = np.stack([st * ca, ct * ca, -sa, -sa * d], axis=-1)
+        out[..., 2, :] = np.stack([st * sa, ct * sa, ca, ca * d], axis=-1)
     return out
 
 

@@ -36,6 +36,7 @@ from kinematics import (  # noqa: E402
     solve_ik,
     workspace_points,
 )
+from dh_convert import to_modified  # noqa: E402
 from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
 from robot_state import RobotState  # noqa: E402
 
@@ -214,6 +215,22 @@ def bench_jacobian(table: Table, robot: RobotParams, rng: np.random.Generator) -
     )
 
 
+def bench_conventions(table: Table, robot: RobotParams, rng: np.random.Generator) -> None:
+    """The same arm as a modified (Craig) table against its standard table, same run: the
+    baseline column holds the standard median, the ratio is standard / modified."""
+    modified = to_modified(robot)
+    n = 10**5
+    Q = random_configurations(robot, n, rng)
+    for what, fn in (("batched FK", forward_kinematics), ("batched Jacobian", jacobian)):
+        std_med, _ = median_iqr(measure(lambda: fn(robot, Q), repeats=9))
+        med, iqr = median_iqr(measure(lambda: fn(modified, Q), repeats=9))
+        table.add(
+            f"{what}, {robot.name} as modified DH, N = 1e5 (µs/config; baseline: standard DH)",
+            f"{med / n * 1e6:.3f} µs", f"{iqr / n * 1e6:.3f} µs", f"{std_med / n * 1e6:.3f} µs (standard)",
+            f"{std_med / med:.2f}×", "≈ 1×",
+        )
+
+
 def limited_humanoid() -> RobotParams:
     h = load_robot("humanoid7")
     return RobotParams.from_arrays(
@@ -292,6 +309,7 @@ def main() -> None:
     bench_fk(table, robot, rng)
     bench_update(table, robot, rng)
     bench_jacobian(table, robot, rng)
+    bench_conventions(table, robot, rng)
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
     if not args.skip_render:

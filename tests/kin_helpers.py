@@ -1,8 +1,11 @@
 """Reference maths shared by the kinematics tests, written independently of the modules
 under test (nothing here calls transforms.py or kinematics.py to produce expected values).
 
-Conventions match the design: standard DH ``A = Rz(θ)·Tz(d)·Tx(a)·Rx(α)``, SI units,
-twists ``[v; ω]`` in the world frame.
+Conventions match the design: standard DH ``A = Rz(θ)·Tz(d)·Tx(a)·Rx(α)``, modified (Craig)
+DH ``A = Rx(α)·Tx(a)·Rz(θ)·Tz(d)`` with the row's a_{i-1}, α_{i-1}, SI units, twists
+``[v; ω]`` in the world frame.  Kinematic property tests run for both conventions: the
+shipped robots in the convention of their file and converted to the other one
+(dh_convert), random chains drawn directly in either.
 """
 from __future__ import annotations
 
@@ -11,17 +14,23 @@ from typing import Callable
 
 import numpy as np
 
+from dh_convert import to_convention
 from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, available_robots, load_robot
 from transforms import HomogeneousTransform
 
 #: Every robot shipped in robots/.
 ROBOT_NAMES = available_robots()
 
+#: Both DH conventions, for parametrising kinematic tests.
+CONVENTIONS = ("standard", "modified")
+
 
 @lru_cache(maxsize=None)
-def robot(name: str) -> RobotParams:
-    """Shipped robot, loaded once per test session (RobotParams compare by identity)."""
-    return load_robot(name)
+def robot(name: str, convention: str | None = None) -> RobotParams:
+    """Shipped robot, loaded once per test session (RobotParams compare by identity);
+    with ``convention`` given, converted to it when its file uses the other one."""
+    rob = load_robot(name)
+    return rob if convention is None else to_convention(rob, convention)
 
 
 # ------------------------------------------------------------------ elementary matrices
@@ -46,8 +55,11 @@ def h_trans(x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
     return m
 
 
-def dh_by_hand(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
-    """Standard DH link transform as the product of its four elementary motions."""
+def dh_by_hand(theta: float, d: float, a: float, alpha: float, convention: str = "standard") -> np.ndarray:
+    """DH link transform as the product of its four elementary motions: standard
+    Rz(θ)·Tz(d)·Tx(a)·Rx(α) or modified Rx(α)·Tx(a)·Rz(θ)·Tz(d)."""
+    if convention == "modified":
+        return h_rot_x(alpha) @ h_trans(x=a) @ h_rot_z(theta) @ h_trans(z=d)
     return h_rot_z(theta) @ h_trans(z=d) @ h_trans(x=a) @ h_rot_x(alpha)
 
 
@@ -60,7 +72,7 @@ def hand_chain(rob: RobotParams, q: np.ndarray, world: np.ndarray | None = None)
         revolute = rob.jtype[i] == JTYPE_REVOLUTE
         theta = rob.dh_th[i] + (q[i] if revolute else 0.0)
         d = rob.dh_d[i] + (0.0 if revolute else q[i])
-        frame = frame @ dh_by_hand(theta, d, rob.dh_a[i], rob.dh_alpha[i])
+        frame = frame @ dh_by_hand(theta, d, rob.dh_a[i], rob.dh_alpha[i], rob.convention)
         frames.append(frame)
     frames.append(frame @ rob.endeff_tf.mat)
     return frames
@@ -117,9 +129,11 @@ def random_rigid(rng: np.random.Generator, scale: float = 1.0) -> np.ndarray:
 SPECIAL_ALPHAS = (0.0, np.pi / 2, -np.pi / 2, np.pi)
 
 
-def random_dh_robot(rng: np.random.Generator, n: int, base_and_tool: bool = True) -> RobotParams:
-    """Random serial chain: both joint types, special and general twists, random offsets,
-    and (optionally) random base and tool transforms."""
+def random_dh_robot(
+    rng: np.random.Generator, n: int, base_and_tool: bool = True, convention: str = "standard"
+) -> RobotParams:
+    """Random serial chain in either DH convention: both joint types, special and general
+    twists, random offsets, and (optionally) random base and tool transforms."""
     alphas = [
         SPECIAL_ALPHAS[k] if k < len(SPECIAL_ALPHAS) else rng.uniform(-np.pi, np.pi)
         for k in rng.integers(0, len(SPECIAL_ALPHAS) + 2, n)
@@ -135,6 +149,7 @@ def random_dh_robot(rng: np.random.Generator, n: int, base_and_tool: bool = True
         link_com_frac=rng.random(n),
         base_tf=HomogeneousTransform(random_rigid(rng)) if base_and_tool else None,
         endeff_tf=HomogeneousTransform(random_rigid(rng, 0.2)) if base_and_tool else None,
+        convention=convention,
     )
 
 

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kin_helpers import ROBOT_NAMES, fd_pose_rates, random_dh_robot, random_q, random_rigid, robot
+from kin_helpers import CONVENTIONS, ROBOT_NAMES, fd_pose_rates, random_dh_robot, random_q, random_rigid, robot
 from kinematics import Kinematics, diff_ik_velocity, forward_kinematics, jacobian, manipulability, workspace_points
 from robot_defs import RobotParams
 from robot_state import RobotState
@@ -48,9 +48,10 @@ def moving_states(rob: RobotParams, seed: int, count: int = 3) -> Iterator[tuple
 # ------------------------------------------------------------------ Jacobian
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_jacobian_matches_finite_differences(name):
-    rob = robot(name)
+def test_jacobian_matches_finite_differences(name, conv):
+    rob = robot(name, conv)
     rng = np.random.default_rng(20)
     Q = random_q(rob, rng, 10)
     J = jacobian(rob, Q)
@@ -66,9 +67,10 @@ def test_jacobian_matches_finite_differences(name):
         np.testing.assert_allclose(kin.jacobian, J[k], atol=1e-12, rtol=0)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ["stanford", "humanoid7"])
-def test_jacobian_with_world_transform(name):
-    rob = robot(name)
+def test_jacobian_with_world_transform(name, conv):
+    rob = robot(name, conv)
     rng = np.random.default_rng(21)
     Q = random_q(rob, rng, 5)
     W = random_rigid(rng)
@@ -81,11 +83,12 @@ def test_jacobian_with_world_transform(name):
     np.testing.assert_allclose(jacobian(rob, Q[0], world_tf=HomogeneousTransform(W)), J[0], atol=1e-12)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @settings(max_examples=20, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.integers(1, 7))
-def test_jacobian_of_random_chains_matches_finite_differences(seed, n):
+def test_jacobian_of_random_chains_matches_finite_differences(conv, seed, n):
     rng = np.random.default_rng(seed)
-    rob = random_dh_robot(rng, n)
+    rob = random_dh_robot(rng, n, convention=conv)
     Q = random_q(rob, rng, 4)
     np.testing.assert_allclose(jacobian(rob, Q), fd_jacobian(rob, Q), atol=FD_TOL)
 
@@ -93,9 +96,10 @@ def test_jacobian_of_random_chains_matches_finite_differences(seed, n):
 # ------------------------------------------------------------------ velocities
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_link_velocities_match_finite_differences(name):
-    rob = robot(name)
+def test_link_velocities_match_finite_differences(name, conv):
+    rob = robot(name, conv)
     n = rob.n_dofs
     for q, qd, kin in moving_states(rob, seed=22):
         v, w = fd_pose_rates(lambda t: forward_kinematics(rob, q + t * qd, all_frames=True)[: n + 1])
@@ -113,9 +117,10 @@ def _coms(rob: RobotParams, q: np.ndarray) -> np.ndarray:
     return np.vstack([origins[:1], origins[:-1] + f * (origins[1:] - origins[:-1])])
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_link_com_velocities_match_finite_differences(name):
-    rob = robot(name)
+def test_link_com_velocities_match_finite_differences(name, conv):
+    rob = robot(name, conv)
     h = 1e-5
     for q, qd, kin in moving_states(rob, seed=23):
         expected = (_coms(rob, q + h * qd) - _coms(rob, q - h * qd)) / (2 * h)
@@ -124,17 +129,19 @@ def test_link_com_velocities_match_finite_differences(name):
         np.testing.assert_allclose(kin.link_com_vel, expected, atol=FD_TOL)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_endeffector_twist_is_jacobian_times_qd(name):
-    rob = robot(name)
+def test_endeffector_twist_is_jacobian_times_qd(name, conv):
+    rob = robot(name, conv)
     for q, qd, kin in moving_states(rob, seed=24):
         np.testing.assert_allclose(kin.endeff_twist, jacobian(rob, q) @ qd, atol=1e-12)
         v, w = fd_pose_rates(lambda t: forward_kinematics(rob, q + t * qd))
         np.testing.assert_allclose(kin.endeff_twist, np.concatenate([v, w]), atol=FD_TOL)
 
 
-def test_velocities_follow_each_update():
-    rob = robot("stanford")
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_velocities_follow_each_update(conv):
+    rob = robot("stanford", conv)
     q, qd, kin = next(moving_states(rob, seed=25))
     first = kin.link_vel.copy()
     state = RobotState(rob)
@@ -148,9 +155,10 @@ def test_velocities_follow_each_update():
 # ------------------------------------------------------------------ manipulability
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_manipulability_is_yoshikawa_measure(name):
-    rob = robot(name)
+def test_manipulability_is_yoshikawa_measure(name, conv):
+    rob = robot(name, conv)
     Q = random_q(rob, np.random.default_rng(26), 6)
     J = fd_jacobian(rob, Q)
     if rob.n_dofs < 6:
@@ -180,16 +188,18 @@ def test_planar_arm_manipulability_by_cauchy_binet():
     assert manipulability(arm, np.zeros(3)) < 1e-7  # stretched out: singular
 
 
-def test_manipulability_closed_forms_of_the_3dof_arms():
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_manipulability_closed_forms_of_the_3dof_arms(conv):
     """det J_P of the anthropomorphic arm is −a2 a3 s3 (a2 c2 + a3 c23), of the spherical
-    arm −d3² s2 (Siciliano 3.3): both follow from the closed-form positions."""
+    arm −d3² s2 (Siciliano 3.3): both follow from the closed-form positions (lengths read
+    from the standard table, the measure taken in ``conv``)."""
     rng = np.random.default_rng(27)
-    arm = robot("anthropomorphic")
-    a2, a3 = arm.dh_a[1:]
+    arm = robot("anthropomorphic", conv)
+    a2, a3 = robot("anthropomorphic", "standard").dh_a[1:]
     Q = random_q(arm, rng, 50)
     expected = a2 * a3 * np.abs(np.sin(Q[:, 2]) * (a2 * np.cos(Q[:, 1]) + a3 * np.cos(Q[:, 1] + Q[:, 2])))
     np.testing.assert_allclose(manipulability(arm, Q), expected, rtol=1e-9, atol=1e-12)
-    sph = robot("spherical")
+    sph = robot("spherical", conv)
     Q = random_q(sph, rng, 50)
     np.testing.assert_allclose(manipulability(sph, Q), Q[:, 2] ** 2 * np.abs(np.sin(Q[:, 1])), rtol=1e-9, atol=1e-12)
 
@@ -205,8 +215,9 @@ def test_manipulability_closed_forms_of_the_3dof_arms():
         ("ur5", [0.1, -1.0, 0.0, -0.5, 0.7, 0.2]),  # elbow stretched
     ],
 )
-def test_manipulability_vanishes_at_singularities(name, q):
-    rob = robot(name)
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_manipulability_vanishes_at_singularities(name, q, conv):
+    rob = robot(name, conv)
     assert manipulability(rob, q) < 1e-7  # √(rounding-level det) is ~1e-8; regular values ~0.1
     nearby = np.array(q) + 0.1
     assert manipulability(rob, nearby) > 1e-4
@@ -271,9 +282,10 @@ def test_workspace_points_bad_input():
 # ------------------------------------------------------------------ differential IK
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_diff_ik_velocity_reproduces_reachable_twists(name):
-    rob = robot(name)
+def test_diff_ik_velocity_reproduces_reachable_twists(name, conv):
+    rob = robot(name, conv)
     rng = np.random.default_rng(28)
     rows = 6 if rob.n_dofs >= 6 else 3
     # planar3's position Jacobian has a zero z row: use its rank, not its row count
@@ -305,11 +317,12 @@ def test_diff_ik_velocity_rejects_bad_twists():
         diff_ik_velocity(rob, [0.0] * 5, [0.0] * 6)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ["anthropomorphic", "puma560"])
-def test_closed_loop_circle_tracking(name):
+def test_closed_loop_circle_tracking(name, conv):
     """Resolved-rate control q += dt · diff_ik(v_des + K (p_des − p)) follows a circle of
     radius 10 cm in a vertical plane, one revolution in 2 s, within a few millimetres."""
-    rob = robot(name)
+    rob = robot(name, conv)
     q = np.array(rob.q_home, dtype=float)
     p0 = forward_kinematics(rob, q)[:3, 3]
     radius, omega, gain, dt = 0.1, np.pi, 20.0, 2e-3

@@ -26,6 +26,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kin_helpers import (
+    CONVENTIONS,
     ROBOT_NAMES,
     assert_rotations,
     hand_chain,
@@ -116,11 +117,13 @@ def to_world(rob, T0):
     return T0 @ B[:3, :3].T + B[:3, 3]
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", CLOSED_FORMS)
-def test_forward_kinematics_matches_closed_form(name):
-    rob = robot(name)
+def test_forward_kinematics_matches_closed_form(name, conv):
+    rob = robot(name, conv)
     Q = random_q(rob, np.random.default_rng(10), 300)
-    expected = to_world(rob, CLOSED_FORMS[name](rob, Q)[0])
+    # the closed forms read the standard table's lengths; the pose is the same in both
+    expected = to_world(rob, CLOSED_FORMS[name](robot(name, "standard"), Q)[0])
     np.testing.assert_allclose(forward_kinematics(rob, Q), expected, atol=1e-12)
     for q, T in zip(Q[:30], expected):
         np.testing.assert_allclose(forward_kinematics(rob, q), T, atol=1e-12)
@@ -167,11 +170,12 @@ def test_closed_form_worked_examples():
 # ------------------------------------------------------------------ random DH chains
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @settings(max_examples=40, deadline=None)
 @given(seeds, st.integers(1, 8))
-def test_random_chains_match_elementary_product(seed, n):
+def test_random_chains_match_elementary_product(conv, seed, n):
     rng = np.random.default_rng(seed)
-    rob = random_dh_robot(rng, n)
+    rob = random_dh_robot(rng, n, convention=conv)
     Q = random_q(rob, rng, 12)
     batch = forward_kinematics(rob, Q)
     frames = forward_kinematics(rob, Q, all_frames=True)
@@ -189,12 +193,13 @@ def test_random_chains_match_elementary_product(seed, n):
     np.testing.assert_allclose(frames[:, -1], frames[:, -2] @ rob.endeff_tf.mat, atol=1e-12)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @settings(max_examples=25, deadline=None)
 @given(seeds, st.integers(1, 7))
-def test_base_tool_and_world_compose_as_stated(seed, n):
+def test_base_tool_and_world_compose_as_stated(conv, seed, n):
     rng = np.random.default_rng(seed)
-    rob = random_dh_robot(rng, n)
-    bare = RobotParams.from_arrays("bare", rob.dh_a, rob.dh_alpha, rob.dh_d, rob.dh_th, rob.jtype)
+    rob = random_dh_robot(rng, n, convention=conv)
+    bare = RobotParams.from_arrays("bare", rob.dh_a, rob.dh_alpha, rob.dh_d, rob.dh_th, rob.jtype, convention=conv)
     Q = random_q(rob, rng, 6)
     B, tool = rob.base_tf.mat, rob.endeff_tf.mat
     W = random_rigid(rng, 2.0)
@@ -208,11 +213,12 @@ def test_base_tool_and_world_compose_as_stated(seed, n):
     np.testing.assert_allclose(framed, W @ forward_kinematics(rob, Q, all_frames=True), atol=1e-12)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @settings(max_examples=25, deadline=None)
 @given(seeds, st.integers(1, 7))
-def test_kinematics_update_equals_forward_kinematics(seed, n):
+def test_kinematics_update_equals_forward_kinematics(conv, seed, n):
     rng = np.random.default_rng(seed)
-    rob = random_dh_robot(rng, n)
+    rob = random_dh_robot(rng, n, convention=conv)
     kin, state = Kinematics(rob), RobotState(rob)
     W = HomogeneousTransform(random_rigid(rng))
     for q in random_q(rob, rng, 4):
@@ -236,9 +242,10 @@ def test_kinematics_starts_at_home():
     np.testing.assert_allclose(Kinematics(rob).endeff_tf.mat, forward_kinematics(rob, rob.q_home), atol=1e-12)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", ROBOT_NAMES)
-def test_shipped_robots_batch_equals_single_across_chunks(name):
-    rob = robot(name)
+def test_shipped_robots_batch_equals_single_across_chunks(name, conv):
+    rob = robot(name, conv)
     Q = random_q(rob, np.random.default_rng(12), CHUNK + 5)
     batch = forward_kinematics(rob, Q, all_frames=True)
     assert_rotations(batch[..., :3, :3])
@@ -259,8 +266,9 @@ def test_forward_kinematics_rejects_bad_q(q):
 # ------------------------------------------------------------------ degenerate geometry
 
 
-def test_spherical_arm_degenerate_links_stay_finite():
-    rob = robot("spherical")
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_spherical_arm_degenerate_links_stay_finite(conv):
+    rob = robot("spherical", conv)
     # q2 = 180° points the prismatic link along −z; frames 0 and 1 always coincide.
     for q in ([0.0, np.pi, 0.5], [0.3, np.pi, 0.1], [0.0, 0.0, 0.0], [1.0, -np.pi, 0.9]):
         frames = forward_kinematics(rob, q, all_frames=True)
@@ -284,8 +292,9 @@ def test_spherical_arm_degenerate_links_stay_finite():
 # ------------------------------------------------------------------ memory
 
 
-def test_batched_forward_kinematics_memory_is_bounded():
-    rob = robot("humanoid7")
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_batched_forward_kinematics_memory_is_bounded(conv):
+    rob = robot("humanoid7", conv)
     N = 100_000
     Q = random_q(rob, np.random.default_rng(13), N)
     forward_kinematics(rob, Q[:10])  # build the per-robot model outside the measurement

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from kin_helpers import CONVENTIONS, robot as shipped
 from kinematics import forward_kinematics, random_configurations, solve_ik
 from robot_defs import RobotParams, load_robot
 from transforms import HomogeneousTransform, rot_z
@@ -47,9 +48,10 @@ def check_solutions(robot: RobotParams, targets: np.ndarray, position_only: bool
                 assert rotation_angle(reached[:3, :3], target[:3, :3]) <= 1e-6
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", FULL_POSE_ROBOTS)
-def test_full_pose_targets_are_solved(name: str) -> None:
-    robot = load_robot(name)
+def test_full_pose_targets_are_solved(name: str, conv: str) -> None:
+    robot = shipped(name, conv)
     check_solutions(robot, targets_for(robot, seed=11), position_only=False)
 
 
@@ -58,9 +60,10 @@ def test_seven_dof_arm_with_90_degree_limits() -> None:
     check_solutions(robot, targets_for(robot, seed=12), position_only=False)
 
 
+@pytest.mark.parametrize("conv", CONVENTIONS)
 @pytest.mark.parametrize("name", POSITION_ROBOTS)
-def test_position_only_targets_are_solved(name: str) -> None:
-    robot = load_robot(name)
+def test_position_only_targets_are_solved(name: str, conv: str) -> None:
+    robot = shipped(name, conv)
     check_solutions(robot, targets_for(robot, seed=13), position_only=True)
 
 

@@ -184,8 +184,20 @@ def test_defaults(tmp_path):
     np.testing.assert_array_equal(rob.endeff_tf.mat, np.eye(4))
     assert not rob.has_tool
     assert rob.description == ""
+    assert rob.convention == "standard" and not rob.is_modified
     built = RobotParams.from_arrays("p", [1.0], [0.0], [0.0], [0.0], [JTYPE_REVOLUTE])
+    assert built.convention == "standard"
     np.testing.assert_array_equal([built.q_home, built.q_min, built.q_max, built.link_com_frac], [[0.0], [-np.inf], [np.inf], [0.5]])
+
+
+def test_convention_is_read_from_the_file_and_from_arrays(tmp_path):
+    rob = load_robot(robot_file(tmp_path, head=HEAD + 'convention = "modified"\n'))
+    assert rob.convention == "modified" and rob.is_modified
+    assert load_robot(robot_file(tmp_path, head=HEAD + 'convention = "standard"\n', name="s.toml")).convention == "standard"
+    built = RobotParams.from_arrays("p", [1.0], [0.0], [0.0], [0.0], [JTYPE_REVOLUTE], convention="modified")
+    assert built.is_modified
+    with pytest.raises(ValueError, match="convention must be 'standard' or 'modified', got 'Modified'"):
+        RobotParams.from_arrays("p", [1.0], [0.0], [0.0], [0.0], [JTYPE_REVOLUTE], convention="Modified")
 
 
 # ------------------------------------------------------------------ bad files
@@ -238,7 +250,15 @@ BAD_FILES = {
     ),
     "typo at top level": (
         dict(head=HEAD + 'descripton = "x"\n'),
-        ["descripton: unknown key 'descripton'; accepted keys: base, description, joints, name, tool, units"],
+        ["descripton: unknown key 'descripton'; accepted keys: base, convention, description, joints, name, tool, units"],
+    ),
+    "unknown convention": (
+        dict(head=HEAD + 'convention = "craig"\n'),
+        ["convention: unknown convention 'craig'; accepted: 'standard' or 'modified'"],
+    ),
+    "convention not a string": (
+        dict(head=HEAD + "convention = 1\n"),
+        ["convention: unknown convention 1; accepted: 'standard' or 'modified'"],
     ),
     "typo in base": (dict(tables="[base]\nxzy = [0.0, 0.0, 0.0]\n"), ["base.xzy: unknown key 'xzy'; accepted keys: rpy, xyz"]),
     "typo in tool": (dict(tables="[tool]\nrpy = [0.0, 0.0, 0.0]\nroll = 1.0\n"), ["tool.roll: unknown key 'roll'; accepted keys: rpy, xyz"]),

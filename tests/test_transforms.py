@@ -169,11 +169,21 @@ def test_constructor_rejects_bad_shapes(shape):
 # ------------------------------------------------------------------ DH transform
 
 
-@given(angles, coords, coords, angles)
-def test_dh_transform_scalar_equals_elementary_product(theta, d, a, alpha):
-    got = dh_transform(theta, d, a, alpha)
+@pytest.mark.parametrize("conv", ["standard", "modified"])
+@given(theta=angles, d=coords, a=coords, alpha=angles)
+def test_dh_transform_scalar_equals_elementary_product(conv, theta, d, a, alpha):
+    got = dh_transform(theta, d, a, alpha, conv)
     assert got.shape == (4, 4)
-    np.testing.assert_allclose(got, dh_by_hand(theta, d, a, alpha), atol=1e-12)
+    np.testing.assert_allclose(got, dh_by_hand(theta, d, a, alpha, conv), atol=1e-12)
+
+
+def test_dh_transform_modified_worked_example_and_bad_convention():
+    # Rx(90°) Tx(2) Rz(90°) Tz(1): x1 = y0 turned by Rx(90°) = z0, z1 = Rx(90°) z0 = −y0,
+    # origin (2, 0, 0) + Rx(90°)(0, 0, 1) = (2, −1, 0).
+    expected = [[0, -1, 0, 2], [0, 0, -1, -1], [1, 0, 0, 0], [0, 0, 0, 1]]
+    np.testing.assert_allclose(dh_transform(math.pi / 2, 1.0, 2.0, math.pi / 2, "modified"), expected, atol=1e-15)
+    with pytest.raises(ValueError, match="convention must be 'standard' or 'modified', got 'craig'"):
+        dh_transform(0.0, 0.0, 0.0, 0.0, "craig")
 
 
 def test_dh_transform_worked_example():
@@ -182,23 +192,24 @@ def test_dh_transform_worked_example():
     np.testing.assert_allclose(dh_transform(math.pi / 2, 1.0, 2.0, math.pi / 2), expected, atol=1e-15)
 
 
-@given(seeds)
-def test_dh_transform_batched_equals_scalar_per_element(seed):
+@pytest.mark.parametrize("conv", ["standard", "modified"])
+@given(seed=seeds)
+def test_dh_transform_batched_equals_scalar_per_element(conv, seed):
     rng = np.random.default_rng(seed)
     N = 9
     theta, d = rng.uniform(-7, 7, N), rng.uniform(-2, 2, N)
     a, alpha = rng.uniform(-2, 2, N), rng.uniform(-7, 7, N)
-    batch = dh_transform(theta, d, a, alpha)
+    batch = dh_transform(theta, d, a, alpha, conv)
     assert batch.shape == (N, 4, 4)
     for k in range(N):
-        np.testing.assert_allclose(batch[k], dh_transform(theta[k], d[k], a[k], alpha[k]), atol=1e-15)
+        np.testing.assert_allclose(batch[k], dh_transform(theta[k], d[k], a[k], alpha[k], conv), atol=1e-15)
     # broadcasting: scalars against arrays, and a (2, 1) against an (N,) array
-    mixed = dh_transform(theta, 0.3, a[0], alpha)
+    mixed = dh_transform(theta, 0.3, a[0], alpha, conv)
     for k in range(N):
-        np.testing.assert_allclose(mixed[k], dh_transform(theta[k], 0.3, a[0], alpha[k]), atol=1e-15)
-    grid = dh_transform(theta[:2, None], d, 0.1, 0.2)
+        np.testing.assert_allclose(mixed[k], dh_transform(theta[k], 0.3, a[0], alpha[k], conv), atol=1e-15)
+    grid = dh_transform(theta[:2, None], d, 0.1, 0.2, conv)
     assert grid.shape == (2, N, 4, 4)
-    np.testing.assert_allclose(grid[1, 4], dh_transform(theta[1], d[4], 0.1, 0.2), atol=1e-15)
+    np.testing.assert_allclose(grid[1, 4], dh_transform(theta[1], d[4], 0.1, 0.2, conv), atol=1e-15)
 
 
 # ------------------------------------------------------------------ angle-axis helpers
