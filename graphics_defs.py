@@ -111,7 +111,7 @@ OSMESA_PACKAGE = "libosmesa6"  # Debian package that provides libOSMesa
 
 
 # ---------------------------------------------------------------------------
-# Window (simulator.py) constants — owned by the simulator/window engineer.
+# Window (window.py) constants — owned by the simulator/window engineer.
 # Key names are Qt key names without the "Key_" prefix; modifiers are "" or
 # "+"-joined names out of Shift, Ctrl, Alt.  The help overlay is generated from
 # KEY_BINDINGS and MOUSE_BINDINGS, and key presses are dispatched by looking
@@ -119,46 +119,47 @@ OSMESA_PACKAGE = "libosmesa6"  # Debian package that provides libOSMesa
 # ---------------------------------------------------------------------------
 
 KEY_BINDINGS = (
-    # (key, modifiers, action name, description); consecutive rows with the same
-    # description share one help line
-    ("H", "", "toggle_help", "show / hide this help"),
-    ("Escape", "", "quit", "quit"),
-    ("T", "", "toggle_wireframe", "wireframe on / off"),
-    ("A", "", "toggle_alpha", "transparency on / off"),
-    ("0", "", "toggle_all_frames", "all joint frames on / off"),
-    ("1", "", "toggle_frame_1", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("2", "", "toggle_frame_2", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("3", "", "toggle_frame_3", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("4", "", "toggle_frame_4", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("5", "", "toggle_frame_5", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("6", "", "toggle_frame_6", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("7", "", "toggle_frame_7", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("8", "", "toggle_frame_8", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("9", "", "toggle_frame_9", "joint frame 1..9 on / off (all frames: dock list)"),
-    ("W", "", "zoom_in", "zoom in / out"),
-    ("S", "", "zoom_out", "zoom in / out"),
-    ("Left", "", "orbit_left", "orbit camera left / right"),
-    ("Right", "", "orbit_right", "orbit camera left / right"),
-    ("Up", "", "orbit_up", "orbit camera up / down"),
-    ("Down", "", "orbit_down", "orbit camera up / down"),
-    ("R", "", "reset_view", "reset view"),
-    ("P", "", "save_screenshot", "save a PNG screenshot (path in status bar)"),
-    ("E", "", "toggle_workspace", "workspace point cloud on / off"),
-    ("V", "", "toggle_vectors", "endeffector velocity arrows on / off"),
-    ("C", "", "toggle_demo", "circle demo (differential IK) on / off"),
-    ("G", "", "toggle_target", "IK target frame and ghost on / off"),
-    ("I", "", "target_x_plus", "move IK target +x / -x"),
-    ("K", "", "target_x_minus", "move IK target +x / -x"),
-    ("J", "", "target_y_plus", "move IK target +y / -y"),
-    ("L", "", "target_y_minus", "move IK target +y / -y"),
-    ("U", "", "target_z_plus", "move IK target +z / -z"),
-    ("O", "", "target_z_minus", "move IK target +z / -z"),
-    ("I", "Shift", "target_rx_plus", "rotate IK target +/- about world x"),
-    ("K", "Shift", "target_rx_minus", "rotate IK target +/- about world x"),
-    ("J", "Shift", "target_ry_plus", "rotate IK target +/- about world y"),
-    ("L", "Shift", "target_ry_minus", "rotate IK target +/- about world y"),
-    ("U", "Shift", "target_rz_plus", "rotate IK target +/- about world z"),
-    ("O", "Shift", "target_rz_minus", "rotate IK target +/- about world z"),
+    # (key, modifiers, action, argument, description).  The window has one handler per
+    # action, called with the argument; consecutive rows with the same description
+    # share one help line.
+    ("H", "", "toggle_help", None, "show / hide this help"),
+    ("Escape", "", "quit", None, "quit"),
+    ("T", "", "toggle_wireframe", None, "wireframe on / off"),
+    ("A", "", "toggle_alpha", None, "transparency on / off"),
+    ("0", "", "toggle_all_frames", None, "all joint frames on / off"),
+    ("1", "", "toggle_frame", 1, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("2", "", "toggle_frame", 2, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("3", "", "toggle_frame", 3, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("4", "", "toggle_frame", 4, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("5", "", "toggle_frame", 5, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("6", "", "toggle_frame", 6, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("7", "", "toggle_frame", 7, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("8", "", "toggle_frame", 8, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("9", "", "toggle_frame", 9, "joint frame 1..9 on / off (all frames: dock list)"),
+    ("W", "", "zoom", -1, "zoom in / out"),  # distance *= KEY_ZOOM_FACTOR ** argument
+    ("S", "", "zoom", 1, "zoom in / out"),
+    ("Left", "", "orbit", (-1, 0), "orbit camera left / right"),  # (azimuth, elevation) steps
+    ("Right", "", "orbit", (1, 0), "orbit camera left / right"),
+    ("Up", "", "orbit", (0, 1), "orbit camera up / down"),
+    ("Down", "", "orbit", (0, -1), "orbit camera up / down"),
+    ("R", "", "reset_view", None, "reset view"),
+    ("P", "", "save_screenshot", None, "save a PNG screenshot (path in status bar)"),
+    ("E", "", "toggle_workspace", None, "workspace point cloud on / off"),
+    ("V", "", "toggle_vectors", None, "endeffector velocity arrows on / off"),
+    ("C", "", "toggle_demo", None, "circle demo (differential IK) on / off"),
+    ("G", "", "toggle_target", None, "IK target frame and ghost on / off"),
+    ("I", "", "move_target", (0, 1), "move IK target +x / -x"),  # (world axis, sign)
+    ("K", "", "move_target", (0, -1), "move IK target +x / -x"),
+    ("J", "", "move_target", (1, 1), "move IK target +y / -y"),
+    ("L", "", "move_target", (1, -1), "move IK target +y / -y"),
+    ("U", "", "move_target", (2, 1), "move IK target +z / -z"),
+    ("O", "", "move_target", (2, -1), "move IK target +z / -z"),
+    ("I", "Shift", "rotate_target", (0, 1), "rotate IK target +/- about world x"),
+    ("K", "Shift", "rotate_target", (0, -1), "rotate IK target +/- about world x"),
+    ("J", "Shift", "rotate_target", (1, 1), "rotate IK target +/- about world y"),
+    ("L", "Shift", "rotate_target", (1, -1), "rotate IK target +/- about world y"),
+    ("U", "Shift", "rotate_target", (2, 1), "rotate IK target +/- about world z"),
+    ("O", "Shift", "rotate_target", (2, -1), "rotate IK target +/- about world z"),
 )
 
 MOUSE_BINDINGS = (

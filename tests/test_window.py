@@ -27,6 +27,8 @@ from PyQt5.QtGui import QImage, QMouseEvent, QWheelEvent  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication, QSlider  # noqa: E402
 
+import window as viewer_window  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -39,7 +41,7 @@ def app() -> QApplication:
 
 def open_window(app: QApplication, *args: str) -> Any:
     config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "900x640", *args]))
-    window = simulator.MainWindow(config)
+    window = viewer_window.MainWindow(config)
     window.show()
     window.activateWindow()
     window.view.setFocus()
@@ -81,7 +83,7 @@ def press(app: QApplication, key: int, modifiers: Any = Qt.NoModifier) -> None:
 def project(win: Any, point: np.ndarray) -> np.ndarray:
     """Pixel (x, y) of a world point in the GL widget."""
     width, height = win.view.pixel_size()
-    return win.sim.camera.project(np.asarray(point)[None, :], width, height)[0]
+    return win.session.camera.project(np.asarray(point)[None, :], width, height)[0]
 
 
 def near(image: np.ndarray, xy: np.ndarray, radius: int) -> np.ndarray:
@@ -137,7 +139,7 @@ def wait_until(condition: Any, limit_ms: int = 30000) -> None:
 def test_gl_view_has_focus_and_window_is_idle(app: QApplication, window: Any) -> None:
     assert app.focusWidget() is window.view
     assert not window.timer.isActive()  # nothing moves, so nothing redraws
-    assert window.sim.robot.name in window.status.text()
+    assert window.session.robot.name in window.status.text()
 
 
 @pytest.mark.window
@@ -149,9 +151,9 @@ def test_gl_context_has_a_depth_buffer(app: QApplication, window: Any) -> None:
 
 def close_up_on_link(win: Any, link: int = 2) -> None:
     """Aim the camera closely at the middle of ``link`` so its mesh lines are pixels apart."""
-    frames = win.sim.kin.h_tf
-    win.sim.camera.target = 0.5 * (frames[link - 1].t() + frames[link].t())
-    win.sim.camera.distance = 0.4
+    frames = win.session.kin.h_tf
+    win.session.camera.target = 0.5 * (frames[link - 1].t() + frames[link].t())
+    win.session.camera.distance = 0.4
 
 
 @pytest.mark.window
@@ -160,19 +162,19 @@ def test_t_toggles_wireframe(app: QApplication, window: Any) -> None:
     before = grab(window)
     press(app, Qt.Key_T)
     after = grab(window)
-    assert window.sim.options.wireframe
+    assert window.session.options.wireframe
     assert robot_pixels(after) < 0.7 * robot_pixels(before)
 
 
 @pytest.mark.window
 def test_digit_toggles_frame_axes_at_its_origin(app: QApplication, window: Any) -> None:
-    origin = project(window, window.sim.kin.h_tf[2].t())  # the elbow (frame 1 sits on frame 0)
-    reach = graphics_objects.robot_reach(window.sim.robot)
-    radius = int(0.6 * gd.FRAME_LENGTH_FRAC * reach / window.sim.camera.world_per_pixel(window.view.pixel_size()[1]))
+    origin = project(window, window.session.kin.h_tf[2].t())  # the elbow (frame 1 sits on frame 0)
+    reach = graphics_objects.robot_reach(window.session.robot)
+    radius = int(0.6 * gd.FRAME_LENGTH_FRAC * reach / window.session.camera.world_per_pixel(window.view.pixel_size()[1]))
     before = near(grab(window), origin, radius)
     press(app, Qt.Key_2)
     after = near(grab(window), origin, radius)
-    assert window.sim.options.show_frames[2]
+    assert window.session.options.show_frames[2]
     for channel in range(3):  # x red, y green, z blue
         assert dominant(after, channel) > dominant(before, channel) + 10, channel
 
@@ -182,42 +184,42 @@ def test_zero_toggles_all_frames(app: QApplication, window: Any) -> None:
     before = grab(window)
     press(app, Qt.Key_0)
     after = grab(window)
-    assert all(window.sim.options.show_frames)
-    for i in range(1, window.sim.n_frames):
+    assert all(window.session.options.show_frames)
+    for i in range(1, window.session.n_frames):
         assert window.frames_list.item(i).checkState() == Qt.Checked
     assert dominant(after[..., :3].astype(int), 1) > dominant(before[..., :3].astype(int), 1) + 30
 
 
 @pytest.mark.window
 def test_arrow_key_orbits_camera(app: QApplication, window: Any) -> None:
-    azimuth = window.sim.camera.azimuth_deg
+    azimuth = window.session.camera.azimuth_deg
     before = grab(window)
     press(app, Qt.Key_Left)
     after = grab(window)
-    assert window.sim.camera.azimuth_deg == pytest.approx(azimuth - gd.KEY_ORBIT_STEP_DEG)
+    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - gd.KEY_ORBIT_STEP_DEG)
     assert changed_pixels(before, after) > 1000
 
 
 @pytest.mark.window
 def test_w_and_s_zoom(app: QApplication, window: Any) -> None:
-    distance = window.sim.camera.distance
+    distance = window.session.camera.distance
     press(app, Qt.Key_W)
-    assert window.sim.camera.distance == pytest.approx(distance / gd.KEY_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance / gd.KEY_ZOOM_FACTOR)
     press(app, Qt.Key_S)
     press(app, Qt.Key_S)
-    assert window.sim.camera.distance == pytest.approx(distance * gd.KEY_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance * gd.KEY_ZOOM_FACTOR)
 
 
 @pytest.mark.window
 def test_slider_moves_the_red_endeffector(app: QApplication, window: Any) -> None:
-    old_xy = project(window, window.sim.kin.endeff_tf.t())
+    old_xy = project(window, window.session.kin.endeff_tf.t())
     before = grab(window)
     assert is_red(before, old_xy)
     slider = window.sliders[0][0]
     slider.setValue(slider.value() + 60 * gd.SLIDER_TICKS_PER_DEG)  # joint 1 by +60 deg
-    assert window.sim.state.q()[0] == pytest.approx(math.radians(60.0))
+    assert window.session.state.q()[0] == pytest.approx(math.radians(60.0))
     assert "+60.0 deg" in window.sliders[0][1].text()
-    new_xy = project(window, window.sim.kin.endeff_tf.t())
+    new_xy = project(window, window.session.kin.endeff_tf.t())
     after = grab(window)
     assert np.linalg.norm(new_xy - old_xy) > 20
     assert is_red(after, new_xy)
@@ -232,7 +234,7 @@ def test_keys_work_after_clicking_a_slider(app: QApplication, window: Any) -> No
     close_up_on_link(window)
     before = grab(window)
     press(app, Qt.Key_T)
-    assert window.sim.options.wireframe
+    assert window.session.options.wireframe
     assert robot_pixels(grab(window)) < 0.7 * robot_pixels(before)
 
 
@@ -240,23 +242,23 @@ def test_keys_work_after_clicking_a_slider(app: QApplication, window: Any) -> No
 def test_target_keys_move_the_ghost_and_robot_follows(app: QApplication, window: Any) -> None:
     press(app, Qt.Key_G)
     before = grab(window)
-    ghost_before = window.sim.ghost.endeff_tf.t().copy()
+    ghost_before = window.session.ghost.endeff_tf.t().copy()
     xy_before = project(window, ghost_before)
     for _ in range(8):
         press(app, Qt.Key_I)  # +x, TARGET_STEP_M each
-    assert window.sim.target_reachable
-    ghost_after = window.sim.ghost.endeff_tf.t()
+    assert window.session.target_reachable
+    ghost_after = window.session.ghost.endeff_tf.t()
     np.testing.assert_allclose(ghost_after - ghost_before, [8 * gd.TARGET_STEP_M, 0, 0], atol=1e-4)
     xy_after = project(window, ghost_after)
     assert np.linalg.norm(xy_after - xy_before) > 10
     # the current robot has not moved yet: around the yellow target marker only the
     # ghost's endeffector sphere (cyan, translucent) is new
-    reach = graphics_objects.robot_reach(window.sim.robot)
-    radius = int(gd.ENDEFF_RADIUS_FRAC * reach / window.sim.camera.world_per_pixel(window.view.pixel_size()[1]))
+    reach = graphics_objects.robot_reach(window.session.robot)
+    radius = int(gd.ENDEFF_RADIUS_FRAC * reach / window.session.camera.world_per_pixel(window.view.pixel_size()[1]))
     assert cyan_pixels(near(grab(window), xy_after, radius)) > cyan_pixels(near(before, xy_after, radius)) + 10
     assert window.timer.isActive()
     wait_until(lambda: not window.timer.isActive())
-    np.testing.assert_allclose(window.sim.kin.endeff_tf.t(), ghost_after, atol=1e-6)
+    np.testing.assert_allclose(window.session.kin.endeff_tf.t(), ghost_after, atol=1e-6)
     # the red endeffector sphere now shows around the (smaller) yellow target marker
     assert dominant(near(grab(window), xy_after, radius), 0) > dominant(near(before, xy_after, radius), 0) + 10
 
@@ -266,10 +268,10 @@ def test_unreachable_target_keeps_ghost_and_says_so(app: QApplication, window: A
     press(app, Qt.Key_G)
     for _ in range(150):
         press(app, Qt.Key_U)  # 3 m up: out of reach
-    assert not window.sim.target_reachable
-    ghost = window.sim.ghost.endeff_tf.t().copy()
+    assert not window.session.target_reachable
+    ghost = window.session.ghost.endeff_tf.t().copy()
     press(app, Qt.Key_U)
-    np.testing.assert_array_equal(window.sim.ghost.endeff_tf.t(), ghost)
+    np.testing.assert_array_equal(window.session.ghost.endeff_tf.t(), ghost)
     grab(window)  # paints and refreshes the status bar
     assert "UNREACHABLE" in window.status.text()
 
@@ -277,11 +279,11 @@ def test_unreachable_target_keeps_ghost_and_says_so(app: QApplication, window: A
 @pytest.mark.window
 def test_shift_target_key_rotates_target(app: QApplication, window: Any) -> None:
     press(app, Qt.Key_G)
-    rot = window.sim.target_tf.R().copy()
+    rot = window.session.target_tf.R().copy()
     press(app, Qt.Key_U, Qt.ShiftModifier)
     step = math.radians(gd.TARGET_STEP_DEG)
     rz = np.array([[math.cos(step), -math.sin(step), 0], [math.sin(step), math.cos(step), 0], [0, 0, 1]])
-    np.testing.assert_allclose(window.sim.target_tf.R(), rz @ rot, atol=1e-9)
+    np.testing.assert_allclose(window.session.target_tf.R(), rz @ rot, atol=1e-9)
 
 
 @pytest.mark.window
@@ -295,8 +297,8 @@ def test_help_overlay_lists_bindings(app: QApplication, window: Any) -> None:
     text = np.all(np.abs(corner - np.array(gd.HELP_TEXT_RGB)) < 40, axis=-1)
     assert np.count_nonzero(text) > 100
     assert changed_pixels(before, after) > 5000
-    lines = simulator.help_lines()
-    for key, mods, _action, text in gd.KEY_BINDINGS:  # rows with one description share a line
+    lines = viewer_window.help_lines()
+    for _key, _mods, _action, _arg, text in gd.KEY_BINDINGS:  # rows with one description share a line
         assert any(text in line for line in lines), text
     assert any(line.startswith("1 .. 9 ") for line in lines)
     assert any(line.startswith("Shift+I / Shift+K ") for line in lines)
@@ -308,14 +310,14 @@ def test_help_overlay_lists_bindings(app: QApplication, window: Any) -> None:
 def test_robot_chooser_switches_robot(app: QApplication, window: Any) -> None:
     before = grab(window)
     window.robot_combo.setCurrentText("puma560")
-    assert window.sim.robot.n_dofs == 6
+    assert window.session.robot.n_dofs == 6
     assert len(window.sliders) == 6
     assert window.frames_list.count() == 6 + 2  # frames 0..6 and the endeffector
     assert changed_pixels(before, grab(window)) > 1000
-    assert window.sim.robot.name in window.status.text()
+    assert window.session.robot.name in window.status.text()
     assert app.focusWidget() is window.view
     press(app, Qt.Key_T)
-    assert window.sim.options.wireframe
+    assert window.session.options.wireframe
 
 
 @pytest.mark.window
@@ -330,18 +332,18 @@ def test_frames_past_nine_reachable_in_dock(app: QApplication, tmp_path: Path) -
     win = open_window(app, "--robot", str(robot_file))
     try:
         assert win.frames_list.count() == 13 + 1
-        origin = project(win, win.sim.kin.h_tf[12].t())
+        origin = project(win, win.session.kin.h_tf[12].t())
         before = near(grab(win), origin, 25)
         item = win.frames_list.item(12)
         win.frames_list.scrollToItem(item)
         rect = win.frames_list.visualItemRect(item)
         checkbox = QPoint(rect.left() + rect.height() // 2 + 2, rect.center().y())
         QTest.mouseClick(win.frames_list.viewport(), Qt.LeftButton, Qt.NoModifier, checkbox)
-        assert win.sim.options.show_frames[12]
+        assert win.session.options.show_frames[12]
         after = near(grab(win), origin, 25)
         assert dominant(after, 1) > dominant(before, 1) + 10  # its green y axis (red x covers the red endeffector)
         press(app, Qt.Key_9)
-        assert win.sim.options.show_frames[9]
+        assert win.session.options.show_frames[9]
     finally:
         win.close()
 
@@ -361,13 +363,13 @@ def test_workspace_cloud_computed_in_background(app: QApplication, window: Any) 
     before = grab(window)
     window.config.workspace = 20000
     press(app, Qt.Key_E)
-    assert window.sim.options.show_workspace
-    wait_until(lambda: window.sim.workspace is not None)
+    assert window.session.options.show_workspace
+    wait_until(lambda: window.session.workspace is not None)
     with_cloud = grab(window)
-    assert len(window.sim.workspace) == 20000
+    assert len(window.session.workspace) == 20000
     assert changed_pixels(before, with_cloud) > 1000
     press(app, Qt.Key_E)
-    assert not window.sim.options.show_workspace
+    assert not window.session.options.show_workspace
     assert changed_pixels(before, grab(window)) == 0
 
 
@@ -375,19 +377,19 @@ def test_workspace_cloud_computed_in_background(app: QApplication, window: Any) 
 def test_circle_demo_and_velocity_vectors(app: QApplication) -> None:
     win = open_window(app, "--demo", "circle")
     try:
-        demo = win.sim.demo
+        demo = win.session.demo
         assert win.timer.isActive()
         QTest.qWait(400)
-        distance = np.linalg.norm((win.sim.kin.endeff_tf.t() - demo.center)[:2])
+        distance = np.linalg.norm((win.session.kin.endeff_tf.t() - demo.center)[:2])
         assert distance == pytest.approx(gd.DEMO_CIRCLE_RADIUS_M, abs=0.01)
-        assert np.linalg.norm(win.sim.kin.endeff_twist[:3]) > 0.01
+        assert np.linalg.norm(win.session.kin.endeff_twist[:3]) > 0.01
         win.timer.stop()  # freeze the motion, arrows still show the last velocity
         with_vectors = grab(win)
         press(app, Qt.Key_V)
-        assert not win.sim.options.show_vectors
+        assert not win.session.options.show_vectors
         assert changed_pixels(with_vectors, grab(win)) > 50
         press(app, Qt.Key_C)
-        assert win.sim.demo is None and not win.timer.isActive()
+        assert win.session.demo is None and not win.timer.isActive()
     finally:
         win.close()
 
@@ -396,22 +398,22 @@ def test_circle_demo_and_velocity_vectors(app: QApplication) -> None:
 def test_mouse_drag_orbits_and_ctrl_drag_moves_target(app: QApplication, window: Any) -> None:
     view = window.view
     centre = view.rect().center()
-    azimuth, distance = window.sim.camera.azimuth_deg, window.sim.camera.distance
+    azimuth, distance = window.session.camera.azimuth_deg, window.session.camera.distance
     drag(app, view, centre, QPoint(25, 0), Qt.LeftButton)
-    assert window.sim.camera.azimuth_deg == pytest.approx(azimuth - 25 * gd.MOUSE_ORBIT_DEG_PER_PX)
-    camera_target = window.sim.camera.target.copy()
+    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - 25 * gd.MOUSE_ORBIT_DEG_PER_PX)
+    camera_target = window.session.camera.target.copy()
     drag(app, view, centre, QPoint(0, 40), Qt.RightButton)
-    assert np.linalg.norm(window.sim.camera.target - camera_target) > 0
+    assert np.linalg.norm(window.session.camera.target - camera_target) > 0
     QTest.mouseClick(view, Qt.LeftButton)  # focus stays with the view
     wheel = QWheelEvent(QPoint(centre), view.mapToGlobal(centre), QPoint(), QPoint(0, 120), Qt.NoButton, Qt.NoModifier, Qt.NoScrollPhase, False)
     app.sendEvent(view, wheel)  # one notch away from the user: zoom in
-    assert window.sim.camera.distance == pytest.approx(distance / gd.WHEEL_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance / gd.WHEEL_ZOOM_FACTOR)
     press(app, Qt.Key_G)
-    target = window.sim.target_tf.t().copy()
+    target = window.session.target_tf.t().copy()
     drag(app, view, centre, QPoint(30, 0), Qt.LeftButton, Qt.ControlModifier)
-    right, _up = window.sim.camera.view_plane_axes()
-    step = window.sim.target_tf.t() - target
-    assert np.dot(step, right) == pytest.approx(30 * window.sim.camera.world_per_pixel(view.pixel_size()[1]))
+    right, _up = window.session.camera.view_plane_axes()
+    step = window.session.target_tf.t() - target
+    assert np.dot(step, right) == pytest.approx(30 * window.session.camera.world_per_pixel(view.pixel_size()[1]))
 
 
 @pytest.mark.window

@@ -1,0 +1,210 @@
+"""The command line of ``robot-sim``: parsing and validating every argument before any
+window or GL context exists, and the offscreen ``--screenshot`` (which never imports Qt).
+
+Bad input raises :class:`CliError`; ``simulator.main`` reports it as one
+``robot-sim: error: ...`` line on stderr with exit status 2.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+import graphics_defs as gd
+import graphics_objects as go
+from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
+from viewer_state import ViewerSession, compute_workspace, display_range, display_scale
+
+PROG = "robot-sim"
+DEFAULT_ROBOT = "anthropomorphic"
+DEMOS = ("circle",)
+
+
+class CliError(Exception):
+    """Bad command line input: reported as one line on stderr with exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise CliError(message)
+
+
+@dataclass
+class Config:
+    """Validated command line: the robot, start q (SI), sizes in pixels, paths."""
+
+    robot_arg: str
+    robot: RobotParams
+    q: np.ndarray | None
+    size: tuple[int, int]
+    screenshot: Path | None
+    frames: list[int]
+    wireframe: bool
+    workspace: int
+    demo: str | None
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argparse parser of ``robot-sim`` (errors raise CliError instead of exiting)."""
+    w, h = gd.WINDOW_DEFAULT_SIZE
+    parser = _Parser(prog=PROG, description="DH robot manipulator simulator with an OpenGL viewer.")
+    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml",
+                        help=f"shipped robot name or robot file (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--q", metavar="v1,v2,...",
+                        help="start joint values: degrees for revolute, metres for prismatic joints")
+    parser.add_argument("--size", default=f"{w}x{h}", metavar="WxH", help=f"picture size in pixels (default: {w}x{h})")
+    parser.add_argument("--screenshot", metavar="FILE.png",
+                        help="render one frame offscreen (OSMesa) to FILE.png and exit; needs no display")
+    parser.add_argument("--frames", default="", metavar="all|1,3", help="joint frames to show (0 = base frame)")
+    parser.add_argument("--wireframe", action="store_true", help="draw the robot as wireframe")
+    parser.add_argument("--list-robots", action="store_true", help="list the shipped robots and exit")
+    parser.add_argument("--workspace", type=_positive_int, default=0, metavar="N",
+                        help="compute and show an N-point workspace cloud")
+    parser.add_argument("--demo", choices=DEMOS, help="start a demo: circle = endeffector circle by differential IK")
+    return parser
+
+
+def _positive_int(text: str) -> int:
+    if not re.fullmatch(r"\d+", text.strip()) or int(text) <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got '{text}'")
+    return int(text)
+
+
+def parse_q(text: str, robot: RobotParams) -> np.ndarray:
+    """Parse ``--q`` (degrees for revolute, metres for prismatic) into SI joint values (n,)."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != robot.n_dofs:
+        raise CliError(f"--q: robot '{robot.name}' has {robot.n_dofs} joints, got {len(parts)} values")
+    values = []
+    for i, part in enumerate(parts):
+        try:
+            value = float(part)
+        except ValueError:
+            raise CliError(f"--q: value {i + 1} '{part}' is not a number") from None
+        if not math.isfinite(value):
+            raise CliError(f"--q: value {i + 1} '{part}' is not a finite number")
+        values.append(value)
+    q = np.array(values) / display_scale(robot)
+    bad = np.flatnonzero((q < robot.q_min) | (q > robot.q_max))
+    if bad.size:
+        i = int(bad[0])
+        lo, hi = display_range(robot)
+        unit = "m" if robot.jtype[i] == JTYPE_PRISMATIC else "deg"
+        raise CliError(f"--q: joint {i + 1} value {values[i]:g} {unit} is outside its limits [{lo[i]:g}, {hi[i]:g}] {unit}")
+    return q
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """Parse ``--size WxH`` into (width, height) pixels within WINDOW_SIZE_LIMITS."""
+    lo, hi = gd.WINDOW_SIZE_LIMITS
+    match = re.fullmatch(r"(\d+)x(\d+)", text.strip().lower())
+    if match is None or not all(lo <= int(v) <= hi for v in match.groups()):
+        raise CliError(f"--size: expected WxH with each of W and H in {lo}..{hi} pixels (e.g. 800x600), got '{text}'")
+    return int(match.group(1)), int(match.group(2))
+
+
+def parse_frames(text: str, n_frames: int) -> list[int]:
+    """Parse ``--frames all|i,j,...`` into frame indices in 0..n_frames-1."""
+    if text.strip() == "":
+        return []
+    if text.strip().lower() == "all":
+        return list(range(n_frames))
+    frames = []
+    for part in text.split(","):
+        part = part.strip()
+        if not re.fullmatch(r"\d+", part) or int(part) >= n_frames:
+            raise CliError(f"--frames: expected 'all' or frame numbers 0..{n_frames - 1} separated by commas, got '{part}'")
+        frames.append(int(part))
+    return frames
+
+
+def check_writable(path: Path) -> Path:
+    """Absolute ``path`` if a file can be written there, else CliError naming the reason."""
+    path = path.expanduser().absolute()
+    if path.is_dir():
+        raise CliError(f"--screenshot: cannot write '{path}': it is a directory")
+    if not path.parent.is_dir():
+        raise CliError(f"--screenshot: cannot write '{path}': directory '{path.parent}' does not exist")
+    if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise CliError(f"--screenshot: cannot write '{path}': permission denied")
+    return path
+
+
+def check_display() -> None:
+    """CliError unless a window can be opened: X11 or Wayland display, or Qt's offscreen platform."""
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"):
+        return
+    if os.environ.get("QT_QPA_PLATFORM") == "offscreen":
+        return
+    raise CliError("no display (DISPLAY and WAYLAND_DISPLAY are not set): "
+                   "use --screenshot FILE.png to render offscreen, or run under xvfb-run")
+
+
+def config_from_args(args: argparse.Namespace) -> Config:
+    """Validate parsed arguments: load the robot, parse q, size, frames and the screenshot path."""
+    try:
+        robot = load_robot(args.robot)
+    except RobotDefinitionError as exc:
+        raise CliError(str(exc)) from None
+    return Config(
+        robot_arg=args.robot,
+        robot=robot,
+        q=None if args.q is None else parse_q(args.q, robot),
+        size=parse_size(args.size),
+        screenshot=None if args.screenshot is None else check_writable(Path(args.screenshot)),
+        frames=parse_frames(args.frames, robot.n_dofs + 1),
+        wireframe=args.wireframe,
+        workspace=args.workspace,
+        demo=args.demo,
+    )
+
+
+def session_from_config(config: Config) -> ViewerSession:
+    """A ViewerSession with the command line's q, frames and wireframe applied."""
+    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1])
+    if config.q is not None:
+        session.set_q(config.q)
+        session.fit_camera()
+    for i in config.frames:
+        session.options.toggle_frame(i)
+    if config.wireframe:
+        session.options.toggle_wireframe()
+    return session
+
+
+def write_screenshot(config: Config) -> None:
+    """Render one frame offscreen through OSMesa and save it as PNG; never imports Qt."""
+    session = session_from_config(config)
+    if config.workspace:
+        session.workspace = compute_workspace(config.robot, config.workspace)
+        session.options.show_workspace = True
+        session.fit_camera()
+    try:
+        go.require_osmesa_platform()  # before anything imports OpenGL
+        with go.OffscreenRenderer(*config.size) as renderer:
+            image = renderer.render(session.camera, session.scene(), session.options)
+    except RuntimeError as exc:
+        raise CliError(f"offscreen rendering failed: {exc}") from None
+    try:
+        go.save_png(config.screenshot, image)
+    except OSError as exc:
+        raise CliError(f"--screenshot: cannot write '{config.screenshot}': {exc.strerror or exc}") from None
+
+
+def attach_negative_values(argv: Sequence[str]) -> list[str]:
+    """Turn ``--q -30,45`` into ``--q=-30,45``: argparse takes a value starting with "-"
+    and a comma for an option name."""
+    out: list[str] = []
+    for token in argv:
+        if out and out[-1] == "--q" and re.match(r"-[\d.]", token):
+            out[-1] = f"--q={token}"
+        else:
+            out.append(token)
+    return out
+

@@ -1,0 +1,493 @@
+"""The Qt window of robot-sim: main window, GL view, help overlay, key and mouse input.
+
+PyQt5 is imported here, at the top, and this module is imported only when a window is
+opened (``simulator.launch``), so ``--screenshot`` never loads Qt.  The window shows a
+:class:`viewer_state.ViewerSession` and paints it with the one render path
+``graphics_objects.render_scene``; keys are dispatched through ``KEY_BINDINGS``
+(graphics_defs.py): one handler per action name, called with the row's argument.
+"""
+from __future__ import annotations
+
+import functools
+import math
+import sys
+import threading
+import time
+from collections import deque
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+from PyQt5 import QtCore, QtGui, QtWidgets
+from PyQt5.QtCore import Qt
+
+import graphics_defs as gd
+import graphics_objects as go
+from _cli import PROG, Config, session_from_config
+from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, available_robots, load_robot
+from viewer_state import ViewerSession, compute_workspace, display_range, display_scale, wrap_display
+
+_MODIFIER_FLAGS = {"Shift": Qt.ShiftModifier, "Ctrl": Qt.ControlModifier, "Alt": Qt.AltModifier}
+_MODIFIER_MASK = int(functools.reduce(lambda a, b: a | b, _MODIFIER_FLAGS.values()))
+
+
+def key_of(key: str, mods: str) -> tuple[int, int]:
+    """(Qt key code, modifier bits) of a KEY_BINDINGS row's key name and modifiers."""
+    bits = functools.reduce(lambda a, b: a | b, (_MODIFIER_FLAGS[m] for m in mods.split("+") if m), Qt.NoModifier)
+    return int(getattr(Qt, f"Key_{key}")), int(bits)
+
+
+def help_lines() -> list[str]:
+    """Help overlay text generated from KEY_BINDINGS then MOUSE_BINDINGS.
+
+    Consecutive bindings with the same description share a line ("W / S", "1 .. 9").
+    """
+    groups: list[tuple[list[str], str]] = []
+    for key, mods, _action, _arg, text in gd.KEY_BINDINGS:
+        name = f"{mods}+{key}" if mods else key
+        if groups and groups[-1][1] == text:
+            groups[-1][0].append(name)
+        else:
+            groups.append(([name], text))
+    rows = [(" / ".join(names) if len(names) <= 2 else f"{names[0]} .. {names[-1]}", text) for names, text in groups]
+    rows += list(gd.MOUSE_BINDINGS)
+    width = max(len(name) for name, _ in rows)
+    return [f"{name:<{width}}  {text}" for name, text in rows]
+
+
+def run_window(config: Config) -> int:
+    """Open the main window for ``config`` and run the Qt event loop; returns its exit status."""
+    app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
+    main_window = MainWindow(config)
+    main_window.show()
+    main_window.view.setFocus()
+    return app.exec_()
+
+
+class HelpOverlay(QtWidgets.QWidget):
+    """Key and mouse bindings drawn with QPainter over the GL picture: a transparent
+    child of the GL view, so its painting shares no GL state with render_scene."""
+
+    def __init__(self, parent: QtWidgets.QWidget) -> None:
+        super().__init__(parent)
+        self.setAttribute(Qt.WA_TransparentForMouseEvents)
+        self.setFocusPolicy(Qt.NoFocus)
+        self.hide()
+
+    def paintEvent(self, event: QtGui.QPaintEvent) -> None:
+        painter = QtGui.QPainter(self)
+        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
+        font.setStyleHint(QtGui.QFont.TypeWriter)
+        painter.setFont(font)
+        metrics = QtGui.QFontMetrics(font)
+        lines = help_lines()
+        margin, line_h = gd.HELP_MARGIN_PX, metrics.lineSpacing()
+        rows = max(1, (self.height() - 4 * margin) // line_h)
+        columns = [lines[i:i + rows] for i in range(0, len(lines), rows)]
+        col_w = max(metrics.horizontalAdvance(line) for line in lines) + 2 * margin
+        box = QtCore.QRect(margin, margin, col_w * len(columns) + margin, line_h * min(rows, len(lines)) + 2 * margin)
+        painter.fillRect(box, QtGui.QColor(*gd.HELP_BACKGROUND_RGBA))
+        painter.setPen(QtGui.QColor(*gd.HELP_TEXT_RGB))
+        for c, column in enumerate(columns):
+            for r, line in enumerate(column):
+                painter.drawText(2 * margin + c * col_w, 2 * margin + r * line_h + metrics.ascent(), line)
+        painter.end()
+
+
+class GLView(QtWidgets.QOpenGLWidget):
+    """GL widget: paints the simulation with render_scene, turns the mouse into camera
+    and target moves, carries the help overlay and measures the frame rate over actual
+    paints."""
+
+    def __init__(self, window: "MainWindow") -> None:
+        super().__init__(window)
+        # Qt's default surface has no depth buffer: without one every part would
+        # paint over the others in drawing order
+        surface = QtGui.QSurfaceFormat()
+        surface.setDepthBufferSize(gd.DEPTH_BUFFER_BITS)
+        self.setFormat(surface)
+        self.window_ = window
+        self.help = HelpOverlay(self)
+        self.paint_times: deque[float] = deque()
+        self.drag_pos: QtCore.QPoint | None = None
+        self.framed = False
+        self.setFocusPolicy(Qt.StrongFocus)
+        self.setMinimumSize(160, 120)
+
+    def pixel_size(self) -> tuple[int, int]:
+        """Framebuffer size (width, height) in device pixels."""
+        ratio = self.devicePixelRatioF()
+        return max(1, round(self.width() * ratio)), max(1, round(self.height() * ratio))
+
+    def fps_text(self) -> str:
+        """Frame rate over the paints of the last FPS_WINDOW_S seconds ("idle" if < 2)."""
+        now = time.monotonic()
+        while self.paint_times and now - self.paint_times[0] > gd.FPS_WINDOW_S:
+            self.paint_times.popleft()
+        span = self.paint_times[-1] - self.paint_times[0] if len(self.paint_times) >= 2 else 0.0
+        if span <= 0.0:
+            return gd.STATUS_FPS_IDLE
+        return gd.STATUS_FPS_FORMAT.format(fps=(len(self.paint_times) - 1) / span)
+
+    def paintGL(self) -> None:
+        sim = self.window_.session
+        width, height = self.pixel_size()
+        try:
+            go.render_scene(sim.camera, sim.scene(), sim.options, width, height)
+        except RuntimeError as exc:  # an exception escaping paintGL aborts PyQt
+            self.window_.statusBar().showMessage(f"cannot draw: {exc}")
+            return
+        self.paint_times.append(time.monotonic())
+        self.window_.refresh_status()
+
+    def resizeGL(self, width: int, height: int) -> None:
+        # frame the robot for the widget's real shape once it is known (the dock
+        # takes part of the window); later resizes leave the user's camera alone
+        sim = self.window_.session
+        sim.aspect = width / max(height, 1)
+        if not self.framed:
+            sim.fit_camera()
+            self.framed = True
+
+    def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
+        super().resizeEvent(event)
+        self.help.resize(self.size())
+
+    def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
+        self.drag_pos = event.pos()
+        self.setFocus()
+
+    def mouseReleaseEvent(self, event: QtGui.QMouseEvent) -> None:
+        self.drag_pos = None
+
+    def mouseMoveEvent(self, event: QtGui.QMouseEvent) -> None:
+        if self.drag_pos is None:
+            return
+        delta = event.pos() - self.drag_pos
+        self.drag_pos = event.pos()
+        self.window_.drag(delta.x(), delta.y(), event.buttons(), event.modifiers())
+
+    def wheelEvent(self, event: QtGui.QWheelEvent) -> None:
+        notches = event.angleDelta().y() / 120.0  # > 0: wheel turned away, zoom in
+        self.window_.zoom(gd.WHEEL_ZOOM_FACTOR ** -notches)
+
+
+class MainWindow(QtWidgets.QMainWindow):
+    """Main window: GL view in the middle, a dock with the robot chooser, one slider per
+    joint and the frame list, a status bar.  Keys are dispatched through KEY_BINDINGS."""
+
+    workspace_ready = QtCore.pyqtSignal(int, object)
+
+    def __init__(self, config: Config) -> None:
+        super().__init__()
+        self.config = config
+        self.session = session_from_config(config)
+        self.sliders: list[tuple[QtWidgets.QSlider, QtWidgets.QLabel]] = []
+        self.workspace_token = 0
+        self.workspace_busy = False
+        self.last_tick = 0.0
+        self.setWindowTitle(PROG)
+        self.view = GLView(self)
+        self.setCentralWidget(self.view)
+        self.timer = QtCore.QTimer(self)
+        self.timer.setInterval(gd.ANIM_INTERVAL_MS)
+        self.timer.timeout.connect(self.tick)
+        self.workspace_ready.connect(self.on_workspace_ready)
+        self.status = QtWidgets.QLabel()
+        self.statusBar().addPermanentWidget(self.status, 1)
+        self.build_dock()
+        self.actions = self.build_actions()
+        self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in gd.KEY_BINDINGS}
+        self.resize(*config.size)
+        self.robot_changed()
+        if config.workspace:
+            self.start_workspace(config.workspace)
+        if config.demo == "circle":
+            self.session.toggle_demo()
+            self.start_motion()
+
+    # ---- dock ----
+    def build_dock(self) -> None:
+        dock = QtWidgets.QDockWidget("Robot", self)
+        dock.setFeatures(QtWidgets.QDockWidget.NoDockWidgetFeatures)
+        panel = QtWidgets.QWidget()
+        layout = QtWidgets.QVBoxLayout(panel)
+        self.robot_combo = QtWidgets.QComboBox()
+        names = available_robots()
+        self.robot_combo.addItems(names)
+        if self.config.robot_arg not in names:
+            self.robot_combo.insertItem(0, self.config.robot_arg)
+        self.robot_combo.setCurrentText(self.config.robot_arg)
+        self.robot_combo.currentTextChanged.connect(self.choose_robot)
+        layout.addWidget(self.robot_combo)
+        self.joints_box = QtWidgets.QWidget()
+        self.joints_layout = QtWidgets.QVBoxLayout(self.joints_box)
+        self.joints_layout.setSpacing(2)
+        self.joints_layout.addStretch(1)
+        scroll = QtWidgets.QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setWidget(self.joints_box)
+        layout.addWidget(scroll, 3)
+        layout.addWidget(QtWidgets.QLabel("Frames"))
+        self.frames_list = QtWidgets.QListWidget()
+        self.frames_list.itemChanged.connect(self.frame_item_changed)
+        layout.addWidget(self.frames_list, 2)
+        for widget in (self.robot_combo, scroll, self.frames_list):
+            widget.setFocusPolicy(Qt.NoFocus)  # keys stay with the GL view
+        dock.setWidget(panel)
+        dock.setMinimumWidth(gd.DOCK_MIN_WIDTH)
+        self.addDockWidget(Qt.RightDockWidgetArea, dock)
+
+    def robot_changed(self) -> None:
+        """Rebuild the sliders and the frame list for ``self.session.robot``."""
+        for slider, label in self.sliders:
+            slider.deleteLater()
+            label.deleteLater()
+        self.sliders = []
+        robot = self.session.robot
+        lo, hi = display_range(robot)
+        for i in range(robot.n_dofs):
+            label = QtWidgets.QLabel()
+            slider = QtWidgets.QSlider(Qt.Horizontal)
+            slider.setFocusPolicy(Qt.NoFocus)
+            ticks = self.ticks_per_unit(i)
+            slider.setRange(math.floor(lo[i] * ticks), math.ceil(hi[i] * ticks))
+            slider.valueChanged.connect(functools.partial(self.slider_moved, i))
+            self.joints_layout.insertWidget(2 * i, label)
+            self.joints_layout.insertWidget(2 * i + 1, slider)
+            self.sliders.append((slider, label))
+        self.frames_list.blockSignals(True)
+        self.frames_list.clear()
+        names = [f"frame {i}" + (" (base)" if i == 0 else "") for i in range(self.session.n_frames)]
+        for name in names + ["endeffector"]:
+            item = QtWidgets.QListWidgetItem(name)
+            item.setFlags(Qt.ItemIsUserCheckable | Qt.ItemIsEnabled)
+            self.frames_list.addItem(item)
+        self.frames_list.blockSignals(False)
+        self.sync_widgets()
+
+    def ticks_per_unit(self, joint: int) -> int:
+        prismatic = self.session.robot.jtype[joint] == JTYPE_PRISMATIC
+        return gd.SLIDER_TICKS_PER_M if prismatic else gd.SLIDER_TICKS_PER_DEG
+
+    def sync_widgets(self) -> None:
+        """Show the simulation's q on the sliders and its frame options in the list."""
+        values = wrap_display(self.session.robot, self.session.state.q())
+        for i, (slider, label) in enumerate(self.sliders):
+            prismatic = self.session.robot.jtype[i] == JTYPE_PRISMATIC
+            fmt = gd.SLIDER_LABEL_FORMAT_PRISMATIC if prismatic else gd.SLIDER_LABEL_FORMAT_REVOLUTE
+            label.setText(fmt.format(name=f"joint {i + 1}", value=round(values[i], 3) + 0.0))
+            slider.blockSignals(True)
+            slider.setValue(round(values[i] * self.ticks_per_unit(i)))
+            slider.blockSignals(False)
+        self.frames_list.blockSignals(True)
+        options = self.session.options
+        for i, shown in enumerate(options.show_frames + [options.show_endeff_frame]):
+            self.frames_list.item(i).setCheckState(Qt.Checked if shown else Qt.Unchecked)
+        self.frames_list.blockSignals(False)
+        self.view.update()
+
+    def refresh_status(self) -> None:
+        self.status.setText(self.session.status_text(self.view.fps_text()))
+
+    def message(self, text: str) -> None:
+        self.statusBar().showMessage(text, gd.STATUS_MESSAGE_MS)
+
+    # ---- widget callbacks ----
+    def choose_robot(self, name: str) -> None:
+        """Switch to robot ``name`` (shipped name or file) without restarting."""
+        try:
+            robot = load_robot(name)
+        except RobotDefinitionError as exc:
+            self.message(str(exc))
+            return
+        previous = self.session.options
+        self.timer.stop()
+        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1))
+        for flag in ("wireframe", "alpha", "show_vectors"):
+            setattr(self.session.options, flag, getattr(previous, flag))
+        self.workspace_token += 1
+        self.workspace_busy = False
+        self.robot_changed()
+        self.view.setFocus()
+
+    def slider_moved(self, joint: int, ticks: int) -> None:
+        self.timer.stop()
+        scale = display_scale(self.session.robot)[joint]
+        self.session.set_joint(joint, ticks / self.ticks_per_unit(joint) / scale)
+        self.sync_widgets()
+
+    def frame_item_changed(self, item: QtWidgets.QListWidgetItem) -> None:
+        """A frame list checkbox: rows 0..n are DH frames, the last the endeffector frame."""
+        row, shown = self.frames_list.row(item), item.checkState() == Qt.Checked
+        if row < self.session.n_frames:
+            self.session.options.show_frames[row] = shown
+        else:
+            self.session.options.show_endeff_frame = shown
+        self.view.update()
+
+    # ---- keys: one handler per KEY_BINDINGS action, called with the row's argument ----
+    def keyPressEvent(self, event: QtGui.QKeyEvent) -> None:
+        binding = self.key_table.get((int(event.key()), int(event.modifiers()) & _MODIFIER_MASK))
+        if binding is None:
+            super().keyPressEvent(event)
+            return
+        action, argument = binding
+        try:
+            self.actions[action](argument)
+        except Exception as exc:  # noqa: BLE001 - an exception escaping a Qt handler aborts PyQt
+            self.message(f"{action} failed: {exc}")
+        self.sync_widgets()
+
+    def build_actions(self) -> dict[str, Callable[[Any], Any]]:
+        """Action name (KEY_BINDINGS column 3) -> handler taking the row's argument (column
+        4); every action of the table must have one."""
+        actions: dict[str, Callable[[Any], Any]] = {
+            "toggle_help": self.act_toggle_help,
+            "quit": self.act_quit,
+            "toggle_wireframe": self.act_toggle_wireframe,
+            "toggle_alpha": self.act_toggle_alpha,
+            "toggle_all_frames": self.act_toggle_all_frames,
+            "toggle_frame": self.act_toggle_frame,
+            "zoom": self.act_zoom,
+            "orbit": self.act_orbit,
+            "reset_view": self.act_reset_view,
+            "save_screenshot": self.act_save_screenshot,
+            "toggle_workspace": self.act_toggle_workspace,
+            "toggle_vectors": self.act_toggle_vectors,
+            "toggle_demo": self.act_toggle_demo,
+            "toggle_target": self.act_toggle_target,
+            "move_target": self.act_move_target,
+            "rotate_target": self.act_rotate_target,
+        }
+        missing = {row[2] for row in gd.KEY_BINDINGS} - actions.keys()
+        if missing:
+            raise RuntimeError(f"KEY_BINDINGS actions without a handler: {sorted(missing)}")
+        return actions
+
+    def act_toggle_help(self, _: None) -> None:
+        self.view.help.setVisible(not self.view.help.isVisible())
+
+    def act_quit(self, _: None) -> None:
+        self.close()
+
+    def act_toggle_wireframe(self, _: None) -> None:
+        self.session.options.toggle_wireframe()
+
+    def act_toggle_alpha(self, _: None) -> None:
+        self.session.options.toggle_alpha()
+
+    def act_toggle_all_frames(self, _: None) -> None:
+        self.session.options.toggle_all_frames()
+
+    def act_toggle_frame(self, index: int) -> None:
+        """Show or hide DH frame ``index``."""
+        if not self.session.options.toggle_frame(index):
+            self.message(f"{self.session.robot.name} has no frame {index} (frames 0..{self.session.n_frames - 1})")
+
+    def act_zoom(self, steps: int) -> None:
+        """Multiply the camera distance by KEY_ZOOM_FACTOR ** ``steps`` (< 0 zooms in)."""
+        self.zoom(gd.KEY_ZOOM_FACTOR ** steps)
+
+    def act_orbit(self, steps: tuple[int, int]) -> None:
+        """Orbit by (azimuth, elevation) steps of KEY_ORBIT_STEP_DEG."""
+        self.session.camera.orbit(steps[0] * gd.KEY_ORBIT_STEP_DEG, steps[1] * gd.KEY_ORBIT_STEP_DEG)
+
+    def act_reset_view(self, _: None) -> None:
+        self.session.fit_camera()
+
+    def act_toggle_vectors(self, _: None) -> None:
+        self.session.options.show_vectors = not self.session.options.show_vectors
+
+    def act_toggle_target(self, _: None) -> None:
+        self.session.toggle_target()
+
+    def act_move_target(self, axis_sign: tuple[int, int]) -> None:
+        """Move the IK target by TARGET_STEP_M along world axis ``axis`` (0..2) times ``sign``."""
+        axis, sign = axis_sign
+        self.move_target_by(lambda: self.session.move_target(translation=sign * gd.TARGET_STEP_M * np.eye(3)[axis]))
+
+    def act_rotate_target(self, axis_sign: tuple[int, int]) -> None:
+        """Rotate the IK target by TARGET_STEP_DEG about world axis ``axis`` times ``sign``."""
+        axis, sign = axis_sign
+        step = sign * math.radians(gd.TARGET_STEP_DEG) * np.eye(3)[axis]
+        self.move_target_by(lambda: self.session.move_target(rpy=step))
+
+    def zoom(self, factor: float) -> None:
+        """Multiply the camera distance by ``factor`` (< 1 zooms in)."""
+        self.session.camera.zoom(factor)
+        self.view.update()
+
+    def drag(self, dx: int, dy: int, buttons: Qt.MouseButtons, modifiers: Qt.KeyboardModifiers) -> None:
+        """Mouse drag of (dx, dy) pixels: left orbits, Ctrl+left moves the IK target,
+        right or middle pans."""
+        if buttons & Qt.LeftButton and modifiers & Qt.ControlModifier:
+            self.move_target_by(lambda: self.session.move_target_in_view(dx, dy, self.view.pixel_size()[1]))
+        elif buttons & Qt.LeftButton:
+            self.session.camera.orbit(-dx * gd.MOUSE_ORBIT_DEG_PER_PX, dy * gd.MOUSE_ORBIT_DEG_PER_PX)
+        elif buttons & (Qt.RightButton | Qt.MiddleButton):
+            self.session.camera.pan(dx, dy, self.view.pixel_size()[1])
+        self.view.update()
+
+    # ---- IK target, animation, demo ----
+    def move_target_by(self, move: Callable[[], bool]) -> None:
+        if not move():
+            self.message("IK target unreachable: the ghost stays at the last reachable pose")
+        self.start_motion()
+
+    def act_toggle_demo(self, _: None = None) -> None:
+        self.message("circle demo " + ("started" if self.session.toggle_demo() else "stopped"))
+        self.start_motion()
+
+    def start_motion(self) -> None:
+        """Run the timer while something moves; it stops itself when all has arrived."""
+        if self.session.moving() and not self.timer.isActive():
+            self.last_tick = time.monotonic()
+            self.timer.start()
+
+    def tick(self) -> None:
+        now = time.monotonic()
+        dt = min(max(now - self.last_tick, 1e-3), 4 * gd.ANIM_INTERVAL_MS / 1000.0)
+        self.last_tick = now
+        self.session.step(dt)
+        if not self.session.moving():
+            self.timer.stop()
+            # once the last paints are older than the fps window the status says idle
+            QtCore.QTimer.singleShot(round(gd.FPS_WINDOW_S * 1000) + 50, self.refresh_status)
+        self.sync_widgets()
+
+    # ---- screenshot and workspace ----
+    def act_save_screenshot(self, _: None = None) -> None:
+        stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{int(time.time() * 1000) % 1000:03d}"
+        stem = Path(self.robot_combo.currentText()).stem
+        path = Path.cwd() / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
+        if self.view.grab().save(str(path)):  # the GL picture with the help overlay if shown
+            self.message(f"screenshot saved to {path}")
+        else:
+            self.message(f"could not save screenshot to {path}")
+
+    def act_toggle_workspace(self, _: None = None) -> None:
+        if self.session.workspace is None and not self.workspace_busy:
+            self.start_workspace(self.config.workspace or gd.WORKSPACE_DEFAULT_POINTS)
+        else:
+            self.session.options.show_workspace = not self.session.options.show_workspace
+
+    def start_workspace(self, n_points: int) -> None:
+        """Compute the workspace cloud in a background thread (numpy releases the GIL)."""
+        self.workspace_busy = True
+        self.session.options.show_workspace = True
+        token, robot = self.workspace_token, self.session.robot
+        self.message(f"computing workspace ({n_points} points) ...")
+
+        def work() -> None:
+            self.workspace_ready.emit(token, compute_workspace(robot, n_points))
+
+        threading.Thread(target=work, name="workspace", daemon=True).start()
+
+    def on_workspace_ready(self, token: int, cloud: Any) -> None:
+        if token != self.workspace_token:
+            return  # computed for a robot that is no longer shown
+        self.workspace_busy = False
+        self.session.workspace = cloud
+        self.message(f"workspace: {len(cloud.points)} points")
+        self.view.update()
