@@ -4,13 +4,13 @@ Private helper of :mod:`trajectory` (import from there).  No Qt, no OpenGL.
 """
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from fileio import write_atomic
 
 FloatArray = NDArray[np.float64]
 
@@ -50,21 +50,6 @@ def sample_times(duration: float, rate: float = DEFAULT_RATE) -> FloatArray:
     """Uniform sample times from 0 to ``duration`` inclusive, spaced at most 1/``rate`` s."""
     steps = max(1, int(np.ceil(duration * rate - 1e-9)))
     return np.linspace(0.0, duration, steps + 1)
-
-
-def write_atomic(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file in the same directory and a rename,
-    so that a reader never sees a half-written file."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 @dataclass(frozen=True, eq=False)
