@@ -1,4 +1,5 @@
-"""Atomic file writing: every file the program writes goes through :func:`write_atomic`.
+"""Safe file access: every file the program writes goes through :func:`write_atomic`, every
+file it reads through :func:`read_regular_file`.
 
 A file is either written completely or not at all: the data goes to a temporary file in
 the target's directory, is flushed to the disk (``fsync``), and only then renamed over the
@@ -6,6 +7,8 @@ target (``os.replace``, atomic on POSIX).  A failure on the way (full disk, quot
 error) removes the temporary file and leaves any previous target untouched.  Targets that
 are not regular files (a directory, a FIFO, a device, a socket) are refused before
 anything is written, so writing never blocks on a FIFO and never replaces ``/dev/null``.
+Reading likewise refuses what is not a regular file (without blocking on a FIFO) and
+files larger than the caller's bound.
 """
 from __future__ import annotations
 
@@ -28,17 +31,81 @@ _KINDS = (
 )
 
 
-class FileWriteError(OSError):
-    """A file could not be written; the message names the path and the reason, and
-    ``errno`` holds the underlying error number when there is one."""
+class FileError(OSError):
+    """A file could not be read or written.  ``reason`` says why in a few words (the
+    system's message, or "it is a directory, not a regular file"), ``filename`` is the
+    path as given and ``errno`` the underlying error number when there is one."""
+
+    VERB = "access"
 
     def __init__(self, path: str, reason: str, code: int | None = None) -> None:
-        super().__init__(f"cannot write '{path}': {reason}")
+        super().__init__(f"cannot {self.VERB} '{path}': {reason}")
         self.errno = code
         self.filename = path
+        self.reason = reason
 
     def __str__(self) -> str:
         return str(self.args[0])
+
+
+class FileWriteError(FileError):
+    """A file could not be written (the target and its directory are unchanged)."""
+
+    VERB = "write"
+
+
+class FileReadError(FileError):
+    """A file could not be read."""
+
+    VERB = "read"
+
+
+def _non_regular(mode: int) -> str | None:
+    """What a file of this ``st_mode`` is when it is not a regular file, else None."""
+    for is_kind, kind in _KINDS:
+        if is_kind(mode):
+            return f"it is {kind}, not a regular file"
+    return None
+
+
+def read_regular_file(path: str | os.PathLike[str], max_bytes: int) -> bytes:
+    """The bytes of the regular file at ``path``, which must hold at most ``max_bytes``.
+
+    Raises :class:`FileReadError` naming the path and the reason: not found, permission
+    denied, name too long, a symbolic-link loop, not a regular file (a directory, a FIFO,
+    a device: refused without reading or waiting), or larger than ``max_bytes``.
+    """
+    shown = os.fspath(path)
+    try:
+        # O_NONBLOCK: a FIFO opens at once instead of waiting for a writer, and is refused.
+        fd = os.open(shown, os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY)
+    except OSError as exc:
+        raise FileReadError(shown, exc.strerror or str(exc), exc.errno) from None
+    except ValueError:  # a NUL character in the name
+        raise FileReadError(shown, "the file name contains a NUL character", errno.EINVAL) from None
+    try:
+        st = os.fstat(fd)
+        reason = _non_regular(st.st_mode)
+        if reason is None and st.st_size > max_bytes:
+            reason = f"it is larger than {max_bytes} bytes"
+        if reason is not None:
+            raise FileReadError(shown, reason, errno.EINVAL)
+        chunks, total = [], 0
+        while total <= max_bytes:
+            chunk = os.read(fd, max_bytes + 1 - total)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            total += len(chunk)
+        if total > max_bytes:  # it grew while we read it
+            raise FileReadError(shown, f"it is larger than {max_bytes} bytes", errno.EFBIG)
+        return b"".join(chunks)
+    except FileReadError:
+        raise
+    except OSError as exc:
+        raise FileReadError(shown, exc.strerror or str(exc), exc.errno) from None
+    finally:
+        os.close(fd)
 
 
 def _umask() -> int:
@@ -66,9 +133,9 @@ def _target(path: str | os.PathLike[str]) -> tuple[Path, int | None]:
         return target, None
     except OSError as exc:
         raise FileWriteError(shown, exc.strerror or str(exc), exc.errno) from None
-    for is_kind, kind in _KINDS:
-        if is_kind(st.st_mode):
-            raise FileWriteError(shown, f"it is {kind}, not a regular file", errno.EINVAL)
+    reason = _non_regular(st.st_mode)
+    if reason is not None:
+        raise FileWriteError(shown, reason, errno.EINVAL)
     return Path(os.path.realpath(target)), stat.S_IMODE(st.st_mode)
 
 

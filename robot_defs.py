@@ -11,6 +11,8 @@ q is added to θ (``theta = dh_th + q``); for a prismatic joint it is added to d
 """
 from __future__ import annotations
 
+import codecs
+import errno
 import math
 import tomllib
 from dataclasses import dataclass, field
@@ -20,7 +22,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from transforms import HomogeneousTransform
+from fileio import FileReadError, read_regular_file
+from messages import clip, clip_repr
+from transforms import HomogeneousTransform, is_rigid_transform
 
 JTYPE_REVOLUTE = 0
 JTYPE_PRISMATIC = 1
@@ -43,6 +47,15 @@ JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com"}
 DH_KEYS = ("a", "alpha", "d", "theta")
 FRAME_KEYS = {"xyz", "rpy"}
 DEFAULT_COM_FRACTION = 0.5
+
+# Bounds of a robot file (README, "Robot file format").  With at most MAX_JOINTS joints,
+# lengths within ±MAX_LENGTH and angles within ±MAX_ANGLE_DEG, forward kinematics is
+# finite everywhere inside the limits and every slider range fits a Qt slider's int range.
+MAX_LENGTH = 1000.0  # m: |a|, |d|, base and tool xyz, prismatic home and limits
+MAX_ANGLE_DEG = 1800.0  # deg (5 turns): alpha, theta, base and tool rpy, revolute home and limits
+MAX_JOINTS = 100
+MAX_FILE_BYTES = 1 << 20
+MAX_NAME_CHARS = 200
 
 
 class RobotDefinitionError(ValueError):
@@ -86,9 +99,9 @@ class RobotParams:
     convention: str = CONVENTION_STANDARD
 
     def __post_init__(self) -> None:
-        if self.convention not in CONVENTIONS:
+        if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:
             raise ValueError(
-                f"convention must be 'standard' or 'modified', got {self.convention!r}"
+                f"convention must be 'standard' or 'modified', got {clip_repr(self.convention)}"
             )
 
     @property
@@ -138,29 +151,92 @@ class RobotParams:
 
         Defaults: home at 0, unlimited joints, link COMs at mid-link, identity base and
         tool, standard DH (``convention="modified"`` reads the rows as Craig's).
+        Raises ValueError naming the argument for anything else than finite real numbers
+        of matching lengths (limits may be ±inf), joint types other than 0 and 1, limits
+        with min > max, a home outside them, COM fractions outside [0, 1] or a base or
+        tool that is not a rigid transform.  Lengths are not bounded as in robot files,
+        so scaled copies of a robot can be built.
         """
-        n = len(dh_a)
-        arrays = {"dh_alpha": dh_alpha, "dh_d": dh_d, "dh_th": dh_th, "jtype": jtype}
-        for key, values in arrays.items():
-            if len(values) != n:
-                raise ValueError(f"{key} has {len(values)} entries, dh_a has {n}")
+        if not isinstance(name, str):
+            raise ValueError(f"name must be a string, got {clip_repr(name)}")
+        a = _real_vector("dh_a", dh_a)
+        n = a.shape[0]
+        if n == 0:
+            raise ValueError(f"dh_a must hold at least one joint, got {clip_repr(dh_a)}")
+        q_lo = _real_vector("q_min", np.full(n, -np.inf) if q_min is None else q_min, n, allow_inf=True)
+        q_hi = _real_vector("q_max", np.full(n, np.inf) if q_max is None else q_max, n, allow_inf=True)
+        home = _real_vector("q_home", np.zeros(n) if q_home is None else q_home, n)
+        for i in range(n):
+            if q_lo[i] > q_hi[i]:
+                raise ValueError(f"q_min[{i}] = {q_lo[i]} > q_max[{i}] = {q_hi[i]}")
+            if not q_lo[i] <= home[i] <= q_hi[i]:
+                raise ValueError(f"q_home[{i}] = {home[i]} is outside [q_min, q_max] = [{q_lo[i]}, {q_hi[i]}]")
+        com = _real_vector("link_com_frac", np.full(n, DEFAULT_COM_FRACTION) if link_com_frac is None else link_com_frac, n)
+        if not ((com >= 0.0) & (com <= 1.0)).all():
+            raise ValueError(f"link_com_frac must lie in [0, 1], got {clip_repr(link_com_frac)}")
         return cls(
             name=name,
-            dh_a=_frozen(dh_a),
-            dh_alpha=_frozen(dh_alpha),
-            dh_d=_frozen(dh_d),
-            dh_th=_frozen(dh_th),
-            jtype=_frozen_int(jtype),
-            q_home=_frozen(np.zeros(n) if q_home is None else q_home),
-            q_min=_frozen(np.full(n, -np.inf) if q_min is None else q_min),
-            q_max=_frozen(np.full(n, np.inf) if q_max is None else q_max),
-            link_com_frac=_frozen(
-                np.full(n, DEFAULT_COM_FRACTION) if link_com_frac is None else link_com_frac
-            ),
-            base_tf=base_tf or HomogeneousTransform(),
-            endeff_tf=endeff_tf or HomogeneousTransform(),
+            dh_a=_frozen(a),
+            dh_alpha=_frozen(_real_vector("dh_alpha", dh_alpha, n)),
+            dh_d=_frozen(_real_vector("dh_d", dh_d, n)),
+            dh_th=_frozen(_real_vector("dh_th", dh_th, n)),
+            jtype=_frozen_int(_joint_types(jtype, n)),
+            q_home=_frozen(home),
+            q_min=_frozen(q_lo),
+            q_max=_frozen(q_hi),
+            link_com_frac=_frozen(com),
+            base_tf=_rigid("base_tf", base_tf),
+            endeff_tf=_rigid("endeff_tf", endeff_tf),
             convention=convention,
         )
+
+
+def _real_vector(name: str, values: Any, n: int | None = None, allow_inf: bool = False) -> NDArray[np.float64]:
+    """``values`` as a 1-D float array (of length n if given); ValueError naming ``name``
+    for other shapes, non-real entries, NaN, or ±inf unless ``allow_inf``."""
+    try:
+        arr = np.asarray(values)
+    except (ValueError, TypeError):
+        raise ValueError(f"{name} must be a 1-D sequence of numbers, got {clip_repr(values)}") from None
+    if arr.dtype.kind == "c":
+        raise ValueError(f"{name} must hold real numbers, got {clip_repr(values)}")
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be a 1-D sequence of numbers, got {clip_repr(values)}")
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be a 1-D sequence of numbers, got shape {arr.shape}")
+    if n is not None and arr.shape[0] != n:
+        raise ValueError(f"{name} has {arr.shape[0]} entries, dh_a has {n}")
+    arr = arr.astype(float)
+    if np.isnan(arr).any() or (not allow_inf and not np.isfinite(arr).all()):
+        rule = "must not hold NaN" if allow_inf else "must hold finite numbers"
+        raise ValueError(f"{name} {rule}, got {clip_repr(values)}")
+    return arr
+
+
+def _joint_types(values: Any, n: int) -> NDArray[np.int64]:
+    """Joint types as ints, each JTYPE_REVOLUTE or JTYPE_PRISMATIC (ValueError otherwise)."""
+    accepted = f"{JTYPE_REVOLUTE} (revolute) or {JTYPE_PRISMATIC} (prismatic)"
+    try:
+        arr = np.asarray(values)
+    except (ValueError, TypeError):
+        arr = np.asarray([None])
+    if arr.dtype.kind not in "iuf" or arr.ndim != 1:
+        raise ValueError(f"jtype must hold {accepted}, got {clip_repr(values)}")
+    if arr.shape[0] != n:
+        raise ValueError(f"jtype has {arr.shape[0]} entries, dh_a has {n}")
+    for i, value in enumerate(arr.tolist()):
+        if value not in (JTYPE_REVOLUTE, JTYPE_PRISMATIC):
+            raise ValueError(f"jtype[{i}] must be {accepted}, got {value!r}")
+    return arr.astype(np.int64)
+
+
+def _rigid(name: str, tf: Any) -> HomogeneousTransform:
+    """``tf`` (identity when None) if it is a rigid HomogeneousTransform, else ValueError."""
+    if tf is None:
+        return HomogeneousTransform()
+    if not isinstance(tf, HomogeneousTransform) or not is_rigid_transform(tf.mat):
+        raise ValueError(f"{name} must be a rigid HomogeneousTransform, got {clip_repr(tf)}")
+    return tf
 
 
 def _frozen_int(values: Any) -> NDArray[np.int64]:
@@ -182,28 +258,44 @@ def resolve_robot_path(name_or_path: str | Path) -> Path:
     """
     text = str(name_or_path)
     if text.endswith(".toml") or "/" in text or "\\" in text:
-        path = Path(text)
-        if not path.is_file():
-            raise RobotDefinitionError(f"{path}: robot file not found")
-        return path
-    path = ROBOTS_DIR / f"{text}.toml"
-    if not path.is_file():
+        return Path(text)  # checked when read, so every reason is reported as it is
+    if text not in available_robots():
         raise RobotDefinitionError(
-            f"unknown robot '{text}'; available robots: {', '.join(available_robots())}"
+            f"unknown robot {clip_repr(text)}; available robots: {', '.join(available_robots())}"
         )
-    return path
+    return ROBOTS_DIR / f"{text}.toml"
+
+
+def _read_text(path: Path) -> str:
+    """The robot file's text: a regular file of at most MAX_FILE_BYTES, UTF-8 (a leading
+    byte-order mark is dropped).  RobotDefinitionError starting with the path otherwise."""
+    try:
+        raw = read_regular_file(path, MAX_FILE_BYTES)
+    except FileReadError as exc:
+        reason = "robot file not found" if exc.errno == errno.ENOENT else f"cannot read robot file: {exc.reason}"
+        raise RobotDefinitionError(f"{path}: {reason}") from None
+    body = raw.removeprefix(codecs.BOM_UTF8)
+    try:
+        return body.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = body.count(b"\n", 0, exc.start) + 1
+        column = exc.start - body.rfind(b"\n", 0, exc.start)
+        raise RobotDefinitionError(
+            f"{path}: not UTF-8 text: byte 0x{body[exc.start]:02x} at line {line}, column {column}; "
+            "save the file as UTF-8"
+        ) from None
 
 
 def load_robot(name_or_path: str | Path) -> RobotParams:
     """Load and validate a robot by shipped name (``"puma560"``) or ``.toml`` path."""
     path = resolve_robot_path(name_or_path)
+    text = _read_text(path)
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise RobotDefinitionError(f"{path}: invalid TOML: {exc}") from None
-    except OSError as exc:
-        raise RobotDefinitionError(f"{path}: cannot read robot file: {exc.strerror}") from None
+        data = tomllib.loads(text)
+    except RecursionError:
+        raise RobotDefinitionError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
+    except ValueError as exc:  # TOMLDecodeError, or an integer of more than 4300 digits
+        raise RobotDefinitionError(f"{path}: invalid TOML: {clip(str(exc), 200)}") from None
     return _parse_robot(data, path)
 
 
@@ -229,29 +321,54 @@ class _Checker:
         unknown = sorted(set(table) - allowed)
         if unknown:
             raise self.fail(
-                f"{where}.{unknown[0]}" if where else unknown[0],
-                f"unknown key '{unknown[0]}'; accepted keys: {', '.join(sorted(allowed))}",
+                f"{where}.{clip(unknown[0])}" if where else clip(unknown[0]),
+                f"unknown key {clip_repr(unknown[0])}; accepted keys: {', '.join(sorted(allowed))}",
             )
 
-    def number(self, value: Any, where: str) -> float:
+    def number(self, value: Any, where: str, bound: "_Bound | None" = None) -> float:
+        """``value`` as a finite float, within ±``bound.limit`` when a bound is given."""
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(where, f"expected a number, got {value!r}")
-        if not math.isfinite(value):
+            raise self.fail(where, f"expected a number, got {clip_repr(value)}")
+        if isinstance(value, float) and not math.isfinite(value):
             raise self.fail(where, f"expected a finite number, got {value!r}")
-        return float(value)
+        try:
+            number = float(value)
+        except OverflowError:  # an integer beyond the float range
+            number = math.inf if value > 0 else -math.inf
+        if bound is not None and not abs(number) <= bound.limit:
+            raise self.fail(where, f"expected {bound.what} within ±{bound.limit:g} {bound.unit}, got {clip_repr(value)}")
+        if not math.isfinite(number):
+            raise self.fail(where, f"expected a finite number, got {clip_repr(value)}")
+        return number
 
-    def vector(self, value: Any, length: int, where: str) -> list[float]:
+    def vector(self, value: Any, length: int, where: str, bound: "_Bound | None" = None) -> list[float]:
         if not isinstance(value, list) or len(value) != length:
-            raise self.fail(where, f"expected a list of {length} numbers, got {value!r}")
-        return [self.number(v, f"{where}[{i}]") for i, v in enumerate(value)]
+            raise self.fail(where, f"expected a list of {length} numbers, got {clip_repr(value)}")
+        return [self.number(v, f"{where}[{i}]", bound) for i, v in enumerate(value)]
 
-    def frame(self, table: Any, where: str, to_rad: float) -> HomogeneousTransform:
+    def frame(self, table: Any, where: str, angle: "_Bound", to_rad: float) -> HomogeneousTransform:
         if not isinstance(table, dict):
-            raise self.fail(where, f"expected a table with keys xyz and rpy, got {table!r}")
+            raise self.fail(where, f"expected a table with keys xyz and rpy, got {clip_repr(table)}")
         self.keys(table, FRAME_KEYS, where)
-        xyz = self.vector(table.get("xyz", [0.0, 0.0, 0.0]), 3, f"{where}.xyz")
-        rpy = self.vector(table.get("rpy", [0.0, 0.0, 0.0]), 3, f"{where}.rpy")
+        xyz = self.vector(table.get("xyz", [0.0, 0.0, 0.0]), 3, f"{where}.xyz", LENGTH_BOUND)
+        rpy = self.vector(table.get("rpy", [0.0, 0.0, 0.0]), 3, f"{where}.rpy", angle)
         return HomogeneousTransform.from_xyz_rpy(xyz, np.array(rpy) * to_rad)
+
+
+@dataclass(frozen=True)
+class _Bound:
+    """Largest magnitude accepted for a value, with what it is and its unit (for messages)."""
+
+    limit: float
+    what: str
+    unit: str
+
+
+LENGTH_BOUND = _Bound(MAX_LENGTH, "a length", "m")
+ANGLE_BOUNDS = {
+    units: _Bound(float(f"{MAX_ANGLE_DEG * math.pi / 180.0 / to_rad:.6g}"), "an angle", units)
+    for units, to_rad in UNITS.items()
+}
 
 
 def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
@@ -262,48 +379,52 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
             raise check.fail(key, "missing required field")
     name = data["name"]
     if not isinstance(name, str) or not name.strip():
-        raise check.fail("name", f"expected a non-empty string, got {name!r}")
+        raise check.fail("name", f"expected a non-empty string, got {clip_repr(name)}")
+    if len(name) > MAX_NAME_CHARS or not name.isprintable():
+        raise check.fail("name", f"expected at most {MAX_NAME_CHARS} characters on one line, got {clip_repr(name)}")
     units = data["units"]
-    if units not in UNITS:
-        raise check.fail("units", f"unknown units {units!r}; accepted: 'deg' or 'rad'")
-    to_rad = UNITS[units]
+    if not isinstance(units, str) or units not in UNITS:
+        raise check.fail("units", f"unknown units {clip_repr(units)}; accepted: 'deg' or 'rad'")
+    to_rad, angle = UNITS[units], ANGLE_BOUNDS[units]
     convention = data.get("convention", CONVENTION_STANDARD)
-    if convention not in CONVENTIONS:
+    if not isinstance(convention, str) or convention not in CONVENTIONS:
         raise check.fail(
-            "convention", f"unknown convention {convention!r}; accepted: 'standard' or 'modified'"
+            "convention", f"unknown convention {clip_repr(convention)}; accepted: 'standard' or 'modified'"
         )
     joints = data["joints"]
     if not isinstance(joints, list) or not joints:
         raise check.fail("joints", "no joints: add one [[joints]] table per joint")
+    if len(joints) > MAX_JOINTS:
+        raise check.fail("joints", f"{len(joints)} joints; at most {MAX_JOINTS} are accepted")
 
     columns: dict[str, list[float]] = {k: [] for k in ("a", "alpha", "d", "theta", "home", "lo", "hi", "com")}
     jtypes: list[int] = []
     for i, joint in enumerate(joints):
         where = f"joints[{i}]"
         if not isinstance(joint, dict):
-            raise check.fail(where, f"expected a table, got {joint!r}")
+            raise check.fail(where, f"expected a table, got {clip_repr(joint)}")
         check.keys(joint, JOINT_KEYS, where)
         jname = joint.get("type")
-        if jname not in JTYPE_NAMES:
+        if not isinstance(jname, str) or jname not in JTYPE_NAMES:
             raise check.fail(
-                f"{where}.type", f"unknown joint type {jname!r}; accepted: 'revolute' or 'prismatic'"
+                f"{where}.type", f"unknown joint type {clip_repr(jname)}; accepted: 'revolute' or 'prismatic'"
             )
         jtype = JTYPE_NAMES[jname]
         for key in DH_KEYS:
             if key not in joint:
                 raise check.fail(f"{where}.{key}", "missing DH value")
-        a = check.number(joint["a"], f"{where}.a")
-        d = check.number(joint["d"], f"{where}.d")
-        alpha = check.number(joint["alpha"], f"{where}.alpha") * to_rad
-        theta = check.number(joint["theta"], f"{where}.theta") * to_rad
+        a = check.number(joint["a"], f"{where}.a", LENGTH_BOUND)
+        d = check.number(joint["d"], f"{where}.d", LENGTH_BOUND)
+        alpha = check.number(joint["alpha"], f"{where}.alpha", angle) * to_rad
+        theta = check.number(joint["theta"], f"{where}.theta", angle) * to_rad
         # The joint variable is an angle for revolute joints and a length for prismatic ones.
-        q_scale = to_rad if jtype == JTYPE_REVOLUTE else 1.0
+        q_scale, q_bound = (to_rad, angle) if jtype == JTYPE_REVOLUTE else (1.0, LENGTH_BOUND)
         lo, hi = -math.inf, math.inf
         if "limits" in joint:
-            lo, hi = (v * q_scale for v in check.vector(joint["limits"], 2, f"{where}.limits"))
+            lo, hi = (v * q_scale for v in check.vector(joint["limits"], 2, f"{where}.limits", q_bound))
             if lo > hi:
                 raise check.fail(f"{where}.limits", f"min {joint['limits'][0]} > max {joint['limits'][1]}")
-        home = check.number(joint.get("home", 0.0), f"{where}.home") * q_scale
+        home = check.number(joint.get("home", 0.0), f"{where}.home", q_bound) * q_scale
         if not lo <= home <= hi:
             raise check.fail(
                 f"{where}.home",
@@ -316,11 +437,11 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         for key, value in zip(columns, (a, alpha, d, theta, home, lo, hi, com)):
             columns[key].append(value)
 
-    base_tf = check.frame(data["base"], "base", to_rad) if "base" in data else HomogeneousTransform()
-    tool_tf = check.frame(data["tool"], "tool", to_rad) if "tool" in data else HomogeneousTransform()
+    base_tf = check.frame(data["base"], "base", angle, to_rad) if "base" in data else HomogeneousTransform()
+    tool_tf = check.frame(data["tool"], "tool", angle, to_rad) if "tool" in data else HomogeneousTransform()
     description = data.get("description", "")
     if not isinstance(description, str):
-        raise check.fail("description", f"expected a string, got {description!r}")
+        raise check.fail("description", f"expected a string, got {clip_repr(description)}")
 
     return RobotParams(
         name=name,

@@ -1,0 +1,25 @@
+"""Error-message helpers: values quoted in a message are cut to a readable length."""
+from __future__ import annotations
+
+from typing import Any
+
+#: Characters of a value kept in an error message; the rest is replaced by its length.
+MESSAGE_VALUE_CHARS = 80
+
+
+def clip(text: str, limit: int = MESSAGE_VALUE_CHARS) -> str:
+    """``text`` itself if at most ``limit`` characters, else its first ``limit``
+    characters followed by ``... (N characters)``."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}... ({len(text)} characters)"
+
+
+def clip_repr(value: Any, limit: int = MESSAGE_VALUE_CHARS) -> str:
+    """``repr(value)`` cut by :func:`clip` (a 5 KB value echoes as about 100 characters).
+    An integer too long for ``repr`` (over 4300 digits) is described by its size."""
+    try:
+        text = repr(value)
+    except ValueError:
+        return f"an integer of about {int(value.bit_length() * 0.30103)} digits"
+    return clip(text, limit)
