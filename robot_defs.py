@@ -251,13 +251,14 @@ def available_robots() -> list[str]:
 
 
 def resolve_robot_path(name_or_path: str | Path) -> Path:
-    """Path of a robot file given a shipped robot's name or a path to a ``.toml`` file.
+    """Path of a robot file given a shipped robot's name or a path to a ``.toml`` or
+    ``.urdf`` file.
 
     Raises RobotDefinitionError for an unknown name (listing the available robots) or a
     missing file.
     """
     text = str(name_or_path)
-    if text.endswith(".toml") or "/" in text or "\\" in text:
+    if text.endswith((".toml", ".urdf")) or "/" in text or "\\" in text:
         return Path(text)  # checked when read, so every reason is reported as it is
     if text not in available_robots():
         raise RobotDefinitionError(
@@ -286,9 +287,35 @@ def _read_text(path: Path) -> str:
         ) from None
 
 
-def load_robot(name_or_path: str | Path) -> RobotParams:
-    """Load and validate a robot by shipped name (``"puma560"``) or ``.toml`` path."""
+def load_robot(
+    name_or_path: str | Path, tip: str | None = None, convention: str | None = None
+) -> RobotParams:
+    """Load and validate a robot by shipped name (``"puma560"``), ``.toml`` path or
+    ``.urdf`` path.
+
+    A URDF becomes a DH robot (``urdf.load_urdf``): the chain from the root link to
+    ``tip`` (needed when the tree branches), in ``convention`` (standard by default).  A
+    TOML robot keeps its file's convention unless ``convention`` names the other one, to
+    which it is converted exactly (``dh_convert``).  ``tip`` applies to URDF files only.
+    """
+    if convention is not None and convention not in CONVENTIONS:
+        raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
     path = resolve_robot_path(name_or_path)
+    if path.suffix.lower() == ".urdf":
+        from urdf import load_urdf  # urdf builds on this module
+
+        return load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD)
+    if tip is not None:
+        raise ValueError(f"tip applies to URDF files only; {path} is a robot file")
+    robot = _load_toml(path)
+    if convention is None:
+        return robot
+    from dh_convert import to_convention  # dh_convert builds on this module
+
+    return to_convention(robot, convention)
+
+
+def _load_toml(path: Path) -> RobotParams:
     text = _read_text(path)
     try:
         data = tomllib.loads(text)
