@@ -18,7 +18,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +25,7 @@ import numpy as np
 import tomlkit
 from tomlkit.items import AoT
 
+from fileio import write_atomic
 from robot_defs import (
     DEFAULT_COM_FRACTION,
     JTYPE_NAMES,
@@ -185,18 +185,9 @@ def to_toml(robot: RobotParams, template: str | None = None) -> str:
 
 
 def save_robot(robot: RobotParams, path: str | os.PathLike[str], template: str | None = None) -> None:
-    """Write ``robot`` to ``path`` atomically (temporary file in the same directory, then
-    renamed), style-preserving when ``template`` is given.  OSError if it cannot be written."""
-    text = to_toml(robot, template)
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=target.parent or ".", prefix=f".{target.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, target)
-    except OSError:
-        os.unlink(tmp)
-        raise
+    """Write ``robot`` to ``path`` atomically (:func:`fileio.write_atomic`), style-preserving
+    when ``template`` is given.  FileWriteError (an OSError) naming the path and the reason."""
+    write_atomic(path, to_toml(robot, template))
 
 
 def _in_file_units(field: str, value: Any, jtype: int, to_rad: float) -> Any:

@@ -207,6 +207,6 @@ def test_save_robot_replaces_the_file_atomically_and_keeps_its_comments(tmp_path
 
 def test_save_robot_onto_a_directory_raises_and_leaves_nothing_behind(tmp_path):
     (tmp_path / "p.toml").mkdir()
-    with pytest.raises(OSError):
+    with pytest.raises(OSError, match=r"p\.toml': it is a directory, not a regular file$"):
         save_robot(robot("planar3"), tmp_path / "p.toml")
     assert os.listdir(tmp_path) == ["p.toml"] and (tmp_path / "p.toml").is_dir()
