@@ -228,3 +228,13 @@ HELP_TEXT_RGB = (235, 235, 235)
 
 # Screenshots saved with P (relative to the working directory)
 SCREENSHOT_NAME_FORMAT = "robot-sim-{robot}-{stamp}.png"
+
+# Endeffector readout (window dock): world pose and manipulability
+READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
+                  "rpy [deg] {roll:+.2f} {pitch:+.2f} {yaw:+.2f}\n"
+                  "quat wxyz {qw:+.4f} {qx:+.4f} {qy:+.4f} {qz:+.4f}\n"
+                  "manipulability {m:.4g}")
+
+# Endeffector trail (toggle key in KEY_BINDINGS)
+TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
+TRAIL_MIN_STEP_M = 0.002             # a point closer than this to the last is not stored
