@@ -24,6 +24,8 @@ from robot_writer import with_dh_value
 #: Column keys, in order, and their headers.
 COLUMNS = ("type", "theta", "d", "a", "alpha", "offset", "limits", "home")
 HEADERS = ("type", "θ", "d [m]", "a [m]", "α [°]", "offset", "limits", "home")
+#: Column names in messages.
+NAMES = ("type", "θ", "d", "a", "α", "offset", "limits", "home")
 _ABBREVIATIONS = {"r": "revolute", "p": "prismatic"}
 _UNLIMITED = ("", "none", "unlimited", "-")
 _NUMBER_FORMAT = "{:.10g}"
@@ -87,14 +89,14 @@ def cell_text(robot: RobotParams, q: NDArray[np.float64], row: int, column: str)
     raise ValueError(f"column must be one of {', '.join(COLUMNS)}, got {column!r}")
 
 
-def _parse_number(text: str, label: str) -> float:
+def _parse_number(text: str) -> float:
     cleaned = re.sub(r"\s*(°|deg|m)$", "", text.strip())
     try:
         value = float(cleaned)
     except ValueError:
-        raise ValueError(f"{label}: '{text.strip()}' is not a number") from None
+        raise ValueError(f"'{text.strip()}' is not a number") from None
     if not math.isfinite(value):
-        raise ValueError(f"{label}: '{text.strip()}' is not a finite number")
+        raise ValueError(f"'{text.strip()}' is not a finite number")
     return value
 
 
@@ -104,37 +106,45 @@ def _parse_limits(text: str, scale: float) -> tuple[float, float] | None:
         return None
     parts = [p for p in re.split(r"\s*(?:\.\.|,|;|\s)\s*", re.sub(r"\s*(°|deg|m)$", "", stripped)) if p]
     if len(parts) != 2:
-        raise ValueError(f"limits: expected 'min .. max' or 'unlimited', got '{stripped}'")
-    lo, hi = (_parse_number(p, "limits") for p in parts)
+        raise ValueError(f"expected 'min .. max' or 'unlimited', got '{stripped}'")
+    lo, hi = (_parse_number(p) for p in parts)
     return lo * scale, hi * scale
 
 
 def edit_cell(robot: RobotParams, row: int, column: str, text: str) -> RobotParams:
     """The robot with cell (``row``, ``column``) set from the typed ``text`` (display units).
 
-    ValueError with the reason for a read-only cell, text that is not a value of the
-    column, or a value the robot file would refuse (see :func:`robot_writer.with_dh_value`).
+    ValueError ``"joint N COLUMN: reason"`` for a read-only cell, text that is not a value
+    of the column, or a value the robot file would refuse (see
+    :func:`robot_writer.with_dh_value`; limits and home in the file's units).
     """
     if column not in COLUMNS:
         raise ValueError(f"column must be one of {', '.join(COLUMNS)}, got {column!r}")
+    try:
+        return _edited(robot, row, column, text)
+    except ValueError as exc:
+        reason = re.sub(r"^(joints\[\d+\]\.)?\w+: ", "", str(exc))
+        raise ValueError(f"joint {row + 1} {NAMES[COLUMNS.index(column)]}: {reason}") from None
+
+
+def _edited(robot: RobotParams, row: int, column: str, text: str) -> RobotParams:
     if not is_editable(robot, row, column):
-        raise ValueError(f"{HEADERS[COLUMNS.index(column)]} of joint {row + 1} is its joint variable: "
-                         "move it with the slider")
+        raise ValueError("it is the joint variable: move it with the slider or type it in the joint box")
     field = _field_of(robot, row, column)
     scale, _ = _q_unit(robot, row)
     value: Any
     if column == "type":
         value = _ABBREVIATIONS.get(text.strip().lower(), text.strip().lower())
         if value not in JTYPE_NAMES:
-            raise ValueError(f"type: expected 'revolute' (R) or 'prismatic' (P), got '{text.strip()}'")
+            raise ValueError(f"expected 'revolute' (R) or 'prismatic' (P), got '{text.strip()}'")
     elif column == "limits":
         value = _parse_limits(text, scale)
     elif column == "home":
-        value = _parse_number(text, "home") * scale
+        value = _parse_number(text) * scale
     elif field in ("theta", "alpha"):
-        value = math.radians(_parse_number(text, field))
+        value = math.radians(_parse_number(text))
     else:
-        value = _parse_number(text, field)
+        value = _parse_number(text)
     return with_dh_value(robot, row, field, value)
 
 

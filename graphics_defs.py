@@ -238,3 +238,18 @@ READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
 # Endeffector trail (toggle key in KEY_BINDINGS)
 TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
 TRAIL_MIN_STEP_M = 0.002             # a point closer than this to the last is not stored
+
+# Joint panel: slider + typed box per joint, limits written at the slider's ends
+JOINT_UNIT_REVOLUTE = "°"
+JOINT_UNIT_PRISMATIC = " m"
+JOINT_UNLIMITED_MARK = " (unlimited)"
+JOINT_BOX_DECIMALS_REVOLUTE = 1
+JOINT_BOX_DECIMALS_PRISMATIC = 3
+JOINT_LIMIT_LABEL_STYLE = "color: gray; font-size: 8pt"
+
+# DH table dock
+DH_INVALID_CELL_RGB = (255, 200, 200)   # background of a refused cell (reason in its tooltip)
+DH_VARIABLE_CELL_RGB = (230, 230, 230)  # background of the read-only joint-variable cell
+DH_RELOAD_DELAY_MS = 200                # wait after a change on disk before reloading
+DH_ERROR_STYLE = "color: #b00000"
+DH_ROW_PADDING_PX = 6                   # table row height = font height + this

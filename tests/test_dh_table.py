@@ -65,13 +65,15 @@ def test_prismatic_offset_edits_d_in_metres():
 @pytest.mark.parametrize(
     "row, column, text, message",
     [
-        (0, "a", "abc", "a: 'abc' is not a number"),
-        (0, "a", "inf", "a: 'inf' is not a finite number"),
-        (0, "theta", "10", "θ of joint 1 is its joint variable: move it with the slider"),
-        (1, "limits", "100 .. 50", "joints[1].limits: min 100.0 > max 50.0"),
-        (1, "limits", "1 2 3", "limits: expected 'min .. max' or 'unlimited', got '1 2 3'"),
-        (1, "home", "300", "joints[1].home: home 300.0 is outside the limits [-45.0, 225.0]"),
-        (0, "type", "ball", "type: expected 'revolute' (R) or 'prismatic' (P), got 'ball'"),
+        (0, "a", "abc", "joint 1 a: 'abc' is not a number"),
+        (0, "a", "inf", "joint 1 a: 'inf' is not a finite number"),
+        (0, "theta", "10", "joint 1 θ: it is the joint variable: move it with the slider or type it in the joint box"),
+        (1, "limits", "100 .. 50", "joint 2 limits: min 100.0 > max 50.0"),
+        (1, "limits", "1 2 3", "joint 2 limits: expected 'min .. max' or 'unlimited', got '1 2 3'"),
+        (1, "limits", "50 .. 60", "joint 2 limits: home 45.0 is outside the limits [50.0, 60.0]"),
+        (1, "home", "300", "joint 2 home: home 300.0 is outside the limits [-45.0, 225.0]"),
+        (2, "alpha", "", "joint 3 α: '' is not a number"),
+        (0, "type", "ball", "joint 1 type: expected 'revolute' (R) or 'prismatic' (P), got 'ball'"),
     ],
 )
 def test_invalid_cells_are_refused_with_the_reason(row, column, text, message):
