@@ -27,6 +27,7 @@ from tomlkit.items import AoT
 
 from fileio import write_atomic
 from robot_defs import (
+    CONVENTION_STANDARD,
     DEFAULT_COM_FRACTION,
     JTYPE_NAMES,
     JTYPE_REVOLUTE,
@@ -166,9 +167,8 @@ def robot_document(robot: RobotParams, template: str | None = None) -> tomlkit.T
     if doc.get("units") not in UNITS:
         doc["units"] = _DEFAULT_UNITS
     to_rad = UNITS[doc["units"]]
-    convention = getattr(robot, "convention", None)
-    if convention is not None and doc.get("convention", "standard") != convention:
-        doc["convention"] = convention
+    if doc.get("convention", CONVENTION_STANDARD) != robot.convention:
+        doc["convention"] = robot.convention
     _sync_joints(doc, robot, to_rad)
     _set_frame(doc, "base", robot.base_tf, to_rad)
     _set_frame(doc, "tool", robot.endeff_tf, to_rad)

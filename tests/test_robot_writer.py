@@ -29,7 +29,7 @@ def load_text(tmp_path: Path, text: str, name: str = "r.toml") -> RobotParams:
 def assert_same_robot(a: RobotParams, b: RobotParams, tf_atol: float = 0.0) -> None:
     for field in ARRAYS:
         assert np.array_equal(getattr(a, field), getattr(b, field)), field
-    assert a.name == b.name and a.description == b.description
+    assert a.name == b.name and a.description == b.description and a.convention == b.convention
     np.testing.assert_allclose(a.base_tf.mat, b.base_tf.mat, rtol=0, atol=tf_atol)
     np.testing.assert_allclose(a.endeff_tf.mat, b.endeff_tf.mat, rtol=0, atol=tf_atol)
 
@@ -71,6 +71,20 @@ def test_a_programmatic_robot_with_base_tool_limits_and_com_round_trips(tmp_path
     # rpy goes through atan2 and degrees: the transforms agree to rounding
     assert_same_robot(made, back, tf_atol=1e-15)
     assert back.jtype[2] == JTYPE_PRISMATIC and back.q_max[2] == 0.3
+
+
+def test_a_modified_dh_robot_keeps_its_convention(tmp_path):
+    craig = RobotParams.from_arrays(
+        "craig", [0.0, 0.3], [0.0, -DEG * 90], [0.2, 0.0], [0.0, 0.0], [JTYPE_REVOLUTE] * 2,
+        convention="modified",
+    )
+    text = to_toml(craig)
+    assert 'convention = "modified"' in text.splitlines()
+    assert_same_robot(craig, load_text(tmp_path, text))
+    standard = to_toml(robot("puma560"), Path(robot("puma560").source).read_text())
+    back = with_dh_value(load_text(tmp_path, text), 1, "a", 0.4)
+    assert back.convention == "modified"
+    assert "convention" not in standard  # the default is not written into a file without it
 
 
 def test_numbers_are_written_in_the_shortest_form_that_loads_exactly():
