@@ -44,7 +44,7 @@ class Config:
     q: np.ndarray | None
     size: tuple[int, int]
     screenshot: Path | None
-    frames: list[int]
+    frames: list[int] | None  # exactly these frames (n_dofs + 1 = endeffector), None: default
     wireframe: bool
     workspace: int
     demo: str | None
@@ -61,7 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--size", default=f"{w}x{h}", metavar="WxH", help=f"picture size in pixels (default: {w}x{h})")
     parser.add_argument("--screenshot", metavar="FILE.png",
                         help="render one frame offscreen (OSMesa) to FILE.png and exit; needs no display")
-    parser.add_argument("--frames", default="", metavar="all|1,3", help="joint frames to show (0 = base frame)")
+    parser.add_argument("--frames", metavar="all|none|0,2,E",
+                        help="show exactly these frames (0 = base frame, E = endeffector); default: the base frame")
     parser.add_argument("--wireframe", action="store_true", help="draw the robot as wireframe")
     parser.add_argument("--list-robots", action="store_true", help="list the shipped robots and exit")
     parser.add_argument("--workspace", type=_positive_int, default=0, metavar="N",
@@ -109,18 +110,27 @@ def parse_size(text: str) -> tuple[int, int]:
     return int(match.group(1)), int(match.group(2))
 
 
-def parse_frames(text: str, n_frames: int) -> list[int]:
-    """Parse ``--frames all|i,j,...`` into frame indices in 0..n_frames-1."""
-    if text.strip() == "":
+def parse_frames(text: str | None, n_frames: int) -> list[int] | None:
+    """Parse ``--frames all|none|i,j,...,E`` into the frame indices to show, exactly:
+    0..n_frames-1 are DH frames, ``n_frames`` (written E) the endeffector frame.  None
+    when the option was not given (the default frames are shown)."""
+    if text is None:
+        return None
+    word = text.strip().lower()
+    if word == "all":
+        return list(range(n_frames + 1))
+    if word == "none":
         return []
-    if text.strip().lower() == "all":
-        return list(range(n_frames))
     frames = []
     for part in text.split(","):
         part = part.strip()
-        if not re.fullmatch(r"\d+", part) or int(part) >= n_frames:
-            raise CliError(f"--frames: expected 'all' or frame numbers 0..{n_frames - 1} separated by commas, got '{part}'")
-        frames.append(int(part))
+        if part.upper() == "E":
+            frames.append(n_frames)
+        elif re.fullmatch(r"\d+", part) and int(part) < n_frames:
+            frames.append(int(part))
+        else:
+            raise CliError(f"--frames: expected 'all', 'none' or frame numbers 0..{n_frames - 1} and E "
+                           f"separated by commas, got '{part}'")
     return frames
 
 
@@ -129,6 +139,8 @@ def check_writable(path: Path) -> Path:
     path = path.expanduser().absolute()
     if path.is_dir():
         raise CliError(f"--screenshot: cannot write '{path}': it is a directory")
+    if path.suffix.lower() != ".png":
+        raise CliError(f"--screenshot: '{path.name}' must end in .png (screenshots are PNG files)")
     if not path.parent.is_dir():
         raise CliError(f"--screenshot: cannot write '{path}': directory '{path.parent}' does not exist")
     if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
@@ -171,8 +183,8 @@ def session_from_config(config: Config) -> ViewerSession:
     if config.q is not None:
         session.set_q(config.q)
         session.fit_camera()
-    for i in config.frames:
-        session.options.toggle_frame(i)
+    if config.frames is not None:
+        session.options.show_only_frames(config.frames)
     if config.wireframe:
         session.options.toggle_wireframe()
     return session

@@ -53,6 +53,13 @@ class GraphicsOptions:
         self.show_frames[i] = not self.show_frames[i]
         return True
 
+    def show_only_frames(self, frames: list[int]) -> None:
+        """Show exactly the frames listed: DH frame indices 0..n_frames-1, and
+        ``n_frames`` for the endeffector frame; every other frame is hidden."""
+        chosen = set(frames)
+        self.show_frames = [i in chosen for i in range(len(self.show_frames))]
+        self.show_endeff_frame = len(self.show_frames) in chosen
+
     def toggle_endeff_frame(self) -> bool:
         """Flip the endeffector frame's visibility; returns the new state."""
         self.show_endeff_frame = not self.show_endeff_frame

@@ -64,7 +64,8 @@ def assert_one_line_error(result: subprocess.CompletedProcess[str], *fragments: 
         (["--q", "0,0,500"], ["--q: joint 3 value 500 deg is outside its limits"]),
         (["--size", "big"], ["--size: expected WxH", "got 'big'"]),
         (["--size", "0x100"], ["--size: expected WxH", "got '0x100'"]),
-        (["--frames", "1,9"], ["--frames: expected 'all' or frame numbers 0..3", "got '9'"]),
+        (["--frames", "1,9"], ["--frames: expected 'all', 'none' or frame numbers 0..3 and E", "got '9'"]),
+        (["--screenshot", "x.jpg"], ["--screenshot: 'x.jpg' must end in .png (screenshots are PNG files)"]),
         (["--workspace", "-5"], ["--workspace", "expected a positive integer, got '-5'"]),
         (["--demo", "square"], ["--demo", "invalid choice: 'square'"]),
         (["--bogus"], ["unrecognized arguments: --bogus"]),
@@ -171,3 +172,56 @@ def test_screenshot_path_does_not_import_qt(tmp_path: Path) -> None:
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, cwd=ROOT)
     assert result.returncode == 0, result.stderr
     assert out.exists()
+
+
+def test_screenshot_with_another_extension_is_refused_and_nothing_written(tmp_path: Path) -> None:
+    out = tmp_path / "x.jpg"
+    result = run("--screenshot", str(out))
+    assert_one_line_error(result)
+    assert result.stderr == "robot-sim: error: --screenshot: 'x.jpg' must end in .png (screenshots are PNG files)\n"
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [(None, None), ("none", []), ("0", [0]), ("2, 0", [2, 0]), ("0,E", [0, 4]), ("e", [4]), ("all", [0, 1, 2, 3, 4])],
+)
+def test_frames_option_lists_exactly_the_frames_to_show(text: str | None, expected: list[int] | None) -> None:
+    from _cli import parse_frames, session_from_config, config_from_args, build_parser
+
+    assert parse_frames(text, 4) == expected
+    args = ["--screenshot", "unused.png"] + ([] if text is None else ["--frames", text])
+    options = session_from_config(config_from_args(build_parser().parse_args(args))).options
+    if expected is None:  # the default: the base frame only
+        assert options.show_frames == [True, False, False, False] and not options.show_endeff_frame
+    else:
+        assert [i for i, shown in enumerate(options.show_frames) if shown] == sorted(i for i in expected if i < 4)
+        assert options.show_endeff_frame == (4 in expected)
+
+
+def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
+    """``--frames 0`` shows the base frame (it used to toggle it off): red and green pixels
+    where Camera.project puts its x and y axes, absent with ``--frames none``."""
+    import graphics_objects as go
+    from _cli import build_parser, config_from_args, session_from_config
+
+    pictures, sessions = {}, {}
+    for frames in ("0", "none"):
+        out = tmp_path / f"frames-{frames}.png"
+        args = ["--robot", "puma560", "--frames", frames, "--size", "320x240", "--screenshot", str(out)]
+        assert run(*args).returncode == 0
+        pictures[frames] = read_png(out)[..., :3].astype(int)
+        sessions[frames] = session_from_config(config_from_args(build_parser().parse_args(args)))
+    kin = sessions["0"].kin
+    length = go.RobotSizes(go.robot_reach(kin.robot)).frame_length
+    base = kin.h_tf[0]
+    for column, name in ((0, "x"), (1, "y")):
+        for frames, expect_axis in (("0", True), ("none", False)):
+            camera = sessions[frames].camera
+            point = base.t() + 0.75 * length * base.R()[:, column]
+            x, y = np.round(camera.project(point[None], 320, 240)[0]).astype(int)
+            r, g, b = pictures[frames][y, x]
+            channel = (r, g)[column]
+            others = [v for i, v in enumerate((r, g, b)) if i != column]
+            is_axis = channel > max(others) + 40
+            assert is_axis == expect_axis, f"--frames {frames}: {name} axis pixel {(r, g, b)} at {(x, y)}"
