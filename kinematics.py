@@ -98,9 +98,21 @@ class _ChainModel:
         weights[rows, rows - 1] = 1.0 - robot.link_com_frac
         weights[rows, rows] = robot.link_com_frac
         self.com_weights = weights
+        # With inertial data the COM of link i is fixed in frame i (``inertials.com``).
+        self.com_local = None if robot.inertials is None else np.asarray(robot.inertials.com)
         self._moving_rows: FloatArray | None = None
 
     # ---------------------------------------------------------------- single configuration
+    def link_com(self, frames: FloatArray) -> FloatArray:
+        """(n+1, 3) world COMs from world frames 0..n: the base at frame 0's origin, link i
+        at ``inertials.com[i-1]`` in frame i when the robot has inertial data, otherwise at
+        fraction ``link_com_frac[i-1]`` from frame i-1's origin to frame i's."""
+        if self.com_local is None:
+            return self.com_weights @ frames[:, :3, 3]
+        com = frames[:, :3, 3].copy()
+        com[1:] += np.einsum("nij,nj->ni", frames[1:, :3, :3], self.com_local)
+        return com
+
     def frames(self, th: FloatArray, d: FloatArray, world0: FloatArray) -> FloatArray:
         """World frames 0..n (n+1, 4, 4) from full DH θ (rad) and d (m) of every joint."""
         coeff = np.empty((self.n, 1, 4))
@@ -405,7 +417,8 @@ class Kinematics:
     * ``h_tf``: the same frames as a list of n+1 :class:`HomogeneousTransform`;
     * ``endeff_tf``: endeffector (tool) frame = frame n · tool;
     * ``link_com``: (n_links+1, 3) centres of mass, ``link_com[0]`` at the base (frame 0
-      origin), ``link_com[i]`` at fraction ``link_com_frac[i-1]`` from frame i-1 to frame i;
+      origin), ``link_com[i]`` at ``inertials.com[i-1]`` in frame i when the robot has
+      inertial data, otherwise at fraction ``link_com_frac[i-1]`` from frame i-1 to frame i;
     * ``jacobian``: (6, n) geometric Jacobian of the endeffector;
     * ``link_vel``: (n+1, 6) twist [v; ω] of each frame's origin (frame 0 is fixed);
     * ``link_com_vel``: (n_links+1, 3) linear velocity of each COM;
@@ -434,7 +447,7 @@ class Kinematics:
         endeff = frames[-1] @ model.tool
         self.frames = frames
         self.endeff_tf = HomogeneousTransform.wrap(endeff)
-        self.link_com = model.com_weights @ frames[:, :3, 3]
+        self.link_com = model.link_com(frames)
         self.jacobian = model.jacobian(frames, endeff[:3, 3])
         self._qd = np.where(model.revolute, joint_state.thd, joint_state.dd)
         self._h_tf: list[HomogeneousTransform] | None = None
@@ -480,7 +493,11 @@ class Kinematics:
             link_vel = np.zeros((n + 1, 6))
             link_vel[1:, :3] = crosses[n:] + np.cumsum(z * (qd - qd_revolute)[:, None] - crosses[:n], axis=0)
             link_vel[1:, 3:] = omega
-            com_vel = self._model.com_weights @ link_vel[:, :3]
+            if self._model.com_local is None:
+                com_vel = self._model.com_weights @ link_vel[:, :3]
+            else:  # v_com = v_i + ω_i × (R_i c_i)
+                com_vel = link_vel[:, :3].copy()
+                com_vel[1:] += _cross(omega, self.link_com[1:] - origins[1:])
             self._velocities = (link_vel, com_vel, self.jacobian @ qd)
         return self._velocities
 

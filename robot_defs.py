@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fileio import FileReadError, read_regular_file
+from inertials import Drives, LinkInertials, parse_joint_tables
 from messages import clip, clip_repr
 from transforms import HomogeneousTransform, is_rigid_transform
 
@@ -43,7 +44,7 @@ ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
-JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com"}
+JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive"}
 DH_KEYS = ("a", "alpha", "d", "theta")
 FRAME_KEYS = {"xyz", "rpy"}
 DEFAULT_COM_FRACTION = 0.5
@@ -79,7 +80,9 @@ class RobotParams:
     ``A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)``; joint i turns about z_i).  ``base_tf`` maps frame 0 to the
     robot's base (world when the robot is not moved), ``endeff_tf`` maps the endeffector
     (tool) frame to frame n.  Limits are ±inf where a joint is unlimited.  Instances are
-    immutable and compare by identity (they key per-robot caches).
+    immutable and compare by identity (they key per-robot caches).  ``inertials`` (mass
+    properties of each link in its frame) and ``drives`` (motor inertia, gearing, friction,
+    limits) are None when the file gives none; see :mod:`inertials`.
     """
 
     name: str
@@ -97,6 +100,8 @@ class RobotParams:
     source: str = ""
     description: str = ""
     convention: str = CONVENTION_STANDARD
+    inertials: LinkInertials | None = None
+    drives: Drives | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:
@@ -146,11 +151,14 @@ class RobotParams:
         base_tf: HomogeneousTransform | None = None,
         endeff_tf: HomogeneousTransform | None = None,
         convention: str = CONVENTION_STANDARD,
+        inertials: LinkInertials | None = None,
+        drives: Drives | None = None,
     ) -> "RobotParams":
         """Build parameters from arrays in SI units (for programmatic robots and tests).
 
         Defaults: home at 0, unlimited joints, link COMs at mid-link, identity base and
-        tool, standard DH (``convention="modified"`` reads the rows as Craig's).
+        tool, standard DH (``convention="modified"`` reads the rows as Craig's), no inertials
+        and no drives.
         Raises ValueError naming the argument for anything else than finite real numbers
         of matching lengths (limits may be ±inf), joint types other than 0 and 1, limits
         with min > max, a home outside them, COM fractions outside [0, 1] or a base or
@@ -174,6 +182,10 @@ class RobotParams:
         com = _real_vector("link_com_frac", np.full(n, DEFAULT_COM_FRACTION) if link_com_frac is None else link_com_frac, n)
         if not ((com >= 0.0) & (com <= 1.0)).all():
             raise ValueError(f"link_com_frac must lie in [0, 1], got {clip_repr(link_com_frac)}")
+        for key, table in (("inertials", inertials), ("drives", drives)):
+            size = None if table is None else len(table.mass if key == "inertials" else table.gear_ratio)
+            if size is not None and size != n:
+                raise ValueError(f"{key} describe {size} joints, dh_a has {n}")
         return cls(
             name=name,
             dh_a=_frozen(a),
@@ -188,6 +200,8 @@ class RobotParams:
             base_tf=_rigid("base_tf", base_tf),
             endeff_tf=_rigid("endeff_tf", endeff_tf),
             convention=convention,
+            inertials=inertials,
+            drives=drives,
         )
 
 
@@ -464,6 +478,7 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         for key, value in zip(columns, (a, alpha, d, theta, home, lo, hi, com)):
             columns[key].append(value)
 
+    inertials, drives = parse_joint_tables(check, joints)
     base_tf = check.frame(data["base"], "base", angle, to_rad) if "base" in data else HomogeneousTransform()
     tool_tf = check.frame(data["tool"], "tool", angle, to_rad) if "tool" in data else HomogeneousTransform()
     description = data.get("description", "")
@@ -486,4 +501,6 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         source=str(path),
         description=description,
         convention=convention,
+        inertials=inertials,
+        drives=drives,
     )

@@ -15,6 +15,7 @@ from typing import Callable
 import numpy as np
 
 from dh_convert import to_convention
+from inertials import LinkInertials
 from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, available_robots, load_robot
 from transforms import HomogeneousTransform
 
@@ -151,6 +152,31 @@ def random_dh_robot(
         endeff_tf=HomogeneousTransform(random_rigid(rng, 0.2)) if base_and_tool else None,
         convention=convention,
     )
+
+
+def expected_coms(rob: RobotParams, frames: np.ndarray) -> np.ndarray:
+    """(n+1, 3) COMs by the documented rule from world frames 0..n (n+1, 4, 4): the base at
+    frame 0's origin; link i at ``inertials.com[i-1]`` in frame i when the robot has
+    inertial data, else at fraction ``link_com_frac[i-1]`` from frame i-1 to frame i."""
+    origins = frames[:, :3, 3]
+    if rob.inertials is not None:
+        com = origins[1:] + np.einsum("nij,nj->ni", frames[1:, :3, :3], rob.inertials.com)
+    else:
+        f = rob.link_com_frac[:, None]
+        com = origins[:-1] + f * (origins[1:] - origins[:-1])
+    return np.vstack([origins[:1], com])
+
+
+def random_inertials(rng: np.random.Generator, n: int) -> LinkInertials:
+    """Random physical inertials of n links: each the mass distribution of a few random
+    point masses around a random COM (so every tensor obeys the triangle inequality)."""
+    mass, com, inertia = rng.uniform(0.2, 3.0, n), rng.uniform(-0.3, 0.3, (n, 3)), np.empty((n, 3, 3))
+    for i in range(n):
+        pts = rng.normal(0.0, 0.1, (4, 3))
+        pts -= pts.mean(axis=0)
+        w = mass[i] / 4
+        inertia[i] = sum(w * (p @ p * np.eye(3) - np.outer(p, p)) for p in pts)
+    return LinkInertials.from_arrays(mass, com, inertia)
 
 
 def random_q(rob: RobotParams, rng: np.random.Generator, size: int | None = None) -> np.ndarray:

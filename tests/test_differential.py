@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from kin_helpers import CONVENTIONS, ROBOT_NAMES, fd_pose_rates, random_dh_robot, random_q, random_rigid, robot
+from kin_helpers import CONVENTIONS, ROBOT_NAMES, expected_coms, fd_pose_rates, random_dh_robot, random_q, random_rigid, robot
 from kinematics import Kinematics, diff_ik_velocity, forward_kinematics, jacobian, manipulability, workspace_points
 from robot_defs import RobotParams
 from robot_state import RobotState
@@ -110,11 +110,8 @@ def test_link_velocities_match_finite_differences(name, conv):
 
 
 def _coms(rob: RobotParams, q: np.ndarray) -> np.ndarray:
-    """COM positions by the documented rule: base at frame 0, link i at fraction f_i from
-    frame i-1 to frame i."""
-    origins = forward_kinematics(rob, q, all_frames=True)[: rob.n_dofs + 1, :3, 3]
-    f = rob.link_com_frac[:, None]
-    return np.vstack([origins[:1], origins[:-1] + f * (origins[1:] - origins[:-1])])
+    """COM positions by the documented rule (see kin_helpers.expected_coms)."""
+    return expected_coms(rob, forward_kinematics(rob, q, all_frames=True)[: rob.n_dofs + 1])
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)

@@ -28,6 +28,7 @@ from hypothesis import strategies as st
 from kin_helpers import (
     CONVENTIONS,
     ROBOT_NAMES,
+    expected_coms,
     assert_rotations,
     hand_chain,
     random_dh_robot,
@@ -148,6 +149,9 @@ def test_kinematics_update_matches_closed_form(name):
         for i in range(rob.n_dofs + 1):
             np.testing.assert_allclose(kin.h_tf[i].t(), origins[i][k], atol=1e-12)
         np.testing.assert_allclose(kin.link_com[0], origins[0][k], atol=1e-12)
+        if rob.inertials is not None:  # COMs fixed in the link frames
+            np.testing.assert_allclose(kin.link_com, expected_coms(rob, kin.frames), atol=1e-12)
+            continue
         for i in range(1, rob.n_links + 1):
             com = origins[i - 1][k] + f[i - 1] * (origins[i][k] - origins[i - 1][k])
             np.testing.assert_allclose(kin.link_com[i], com, atol=1e-12)

@@ -246,7 +246,7 @@ BAD_FILES = {
     "com below 0": (dict(joints=(JOINT + "com = -0.1\n",)), ["joints[0].com: com fraction -0.1 is outside [0, 1]"]),
     "typo in joint": (
         dict(joints=(JOINT.replace("alpha", "alpah"),)),
-        ["joints[0].alpah: unknown key 'alpah'; accepted keys: a, alpha, com, d, home, limits, theta, type"],
+        ["joints[0].alpah: unknown key 'alpah'; accepted keys: a, alpha, com, d, drive, home, inertial, limits, theta, type"],
     ),
     "typo at top level": (
         dict(head=HEAD + 'descripton = "x"\n'),
