@@ -42,6 +42,10 @@ from transforms import HomogeneousTransform, rpy_from_rot
 EDITABLE_FIELDS = ("type", "theta", "d", "a", "alpha", "home", "limits", "com")
 _TYPE_NAMES = {code: name for name, code in JTYPE_NAMES.items()}
 _DEFAULT_UNITS = "deg"
+_DRIVE_DEFAULTS = (
+    ("motor_inertia", 0.0), ("gear_ratio", 1.0), ("viscous", 0.0),
+    ("effort_limit", math.inf), ("velocity_limit", math.inf),
+)
 
 
 def file_number(value: float, scale: float) -> float:
@@ -134,6 +138,56 @@ def _sync_joint(table: Any, robot: RobotParams, i: int, to_rad: float) -> None:
     _set_optional(table, "home", float(robot.q_home[i]), q_scale, 0.0)
     _set_limits(table, float(robot.q_min[i]), float(robot.q_max[i]), q_scale, where)
     _set_optional(table, "com", float(robot.link_com_frac[i]), 1.0, DEFAULT_COM_FRACTION)
+    _sync_mass_properties(table, robot, i)
+
+
+def _set_vector(table: Any, key: str, values: Any) -> None:
+    current = table.get(key)
+    if isinstance(current, list) and len(current) == len(values) and all(
+        _loads_to(c, 1.0, float(v)) for c, v in zip(current, values)
+    ):
+        return
+    table[key] = [float(v) + 0.0 for v in values]
+
+
+def _sub_table(table: Any, key: str, keep: bool) -> Any:
+    """The joint's ``[joints.KEY]`` table (created when missing), or None after removing it."""
+    if not keep:
+        if key in table:
+            del table[key]
+        return None
+    if key not in table:
+        table[key] = tomlkit.table()
+    return table[key]
+
+
+def _sync_mass_properties(table: Any, robot: RobotParams, i: int) -> None:
+    """``[joints.inertial]`` and ``[joints.drive]`` of joint i from the robot's data; an
+    estimate (``inertials.estimated``) is not written, so a file stays without data."""
+    li = robot.inertials
+    inertial = _sub_table(table, "inertial", li is not None and not li.estimated)
+    if inertial is not None:
+        inertia = li.inertia[i]
+        _set_number(inertial, "mass", float(li.mass[i]), 1.0)
+        _set_vector(inertial, "com", li.com[i])
+        _set_vector(inertial, "inertia", [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1], inertia[1, 2], inertia[0, 2]])
+    dr = robot.drives
+    drive = _sub_table(table, "drive", dr is not None and (
+        "drive" in table or dr.coulomb[i].any() or any(
+            getattr(dr, key)[i] != default for key, default in _DRIVE_DEFAULTS
+        )
+    ))
+    if drive is None:
+        return
+    for key, default in _DRIVE_DEFAULTS:
+        value = float(getattr(dr, key)[i])
+        if math.isinf(value) or (key not in drive and value == default):
+            if key in drive:
+                del drive[key]
+            continue
+        _set_number(drive, key, value, 1.0)
+    if "coulomb" in drive or dr.coulomb[i].any():
+        _set_vector(drive, "coulomb", dr.coulomb[i])
 
 
 def _sync_joints(doc: Any, robot: RobotParams, to_rad: float) -> None:

@@ -2,6 +2,7 @@
 validated single-value edits (the DH table dock's path)."""
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import math
 import os
@@ -26,12 +27,19 @@ def load_text(tmp_path: Path, text: str, name: str = "r.toml") -> RobotParams:
     return load_robot(path)
 
 
+DRIVE_ARRAYS = ("motor_inertia", "gear_ratio", "viscous", "coulomb", "effort_limit", "velocity_limit")
+
+
 def assert_same_robot(a: RobotParams, b: RobotParams, tf_atol: float = 0.0) -> None:
     for field in ARRAYS:
         assert np.array_equal(getattr(a, field), getattr(b, field)), field
     assert a.name == b.name and a.description == b.description and a.convention == b.convention
     np.testing.assert_allclose(a.base_tf.mat, b.base_tf.mat, rtol=0, atol=tf_atol)
     np.testing.assert_allclose(a.endeff_tf.mat, b.endeff_tf.mat, rtol=0, atol=tf_atol)
+    for table, fields in (("inertials", ("mass", "com", "inertia")), ("drives", DRIVE_ARRAYS)):
+        assert (getattr(a, table) is None) == (getattr(b, table) is None), table
+        for field in fields if getattr(a, table) is not None else ():
+            assert np.array_equal(getattr(getattr(a, table), field), getattr(getattr(b, table), field)), field
 
 
 def changed_lines(before: str, after: str) -> list[str]:
@@ -157,6 +165,10 @@ def test_a_template_with_more_joints_is_trimmed_and_one_with_fewer_is_extended(t
 )
 def test_with_dh_value_changes_exactly_one_entry(field, value, array, expected):
     original = robot("puma560")
+    if field == "com":  # the com fraction only places COMs of robots without inertial data
+        with pytest.raises(ValueError, match=r"^joints\[1\]\.com: ambiguous: both the com fraction 0\.25 and \[joints\.inertial\]"):
+            with_dh_value(original, 1, field, value)
+        original = dataclasses.replace(original, inertials=None)
     edited = with_dh_value(original, 1, field, value)
     assert edited is not original and edited.source == original.source
     assert getattr(edited, array)[1] == expected
