@@ -28,6 +28,7 @@ This module imports neither OpenGL nor Qt.
 from __future__ import annotations
 
 import math
+import os
 import weakref
 from dataclasses import dataclass
 from typing import Callable
@@ -35,6 +36,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from messages import clip, clip_repr
 from robot_defs import JTYPE_REVOLUTE, RobotParams
 from robot_state import JointState, check_joint_vector
 from transforms import HomogeneousTransform, is_rigid_transform, rotation_log
@@ -69,11 +71,14 @@ def _alpha_kind(alpha: float) -> int:
 
 
 class _ChainModel:
-    """Precomputed, robot-specific data for the kinematic kernels (built once per robot)."""
+    """Precomputed, robot-specific data for the kinematic kernels (built once per robot).
+
+    It keeps copies of the robot's arrays, never the robot itself: the cache that holds it
+    is keyed weakly by the robot, so the entry goes when the robot's last user does."""
 
     def __init__(self, robot: RobotParams) -> None:
-        self.robot = robot
         self.n = robot.n_dofs
+        self.dh_a, self.dh_d, self.dh_th = robot.dh_a, robot.dh_d, robot.dh_th
         self.modified = robot.is_modified
         # joint i+1 (0-based column i) turns about z of frame i (standard) or i+1 (modified)
         self.axis_frame = 1 if self.modified else 0
@@ -129,8 +134,10 @@ class _ChainModel:
 
     def th_d(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Full DH θ and d of every joint for joint vector q (n,)."""
-        r = self.robot
-        return np.where(self.revolute, r.dh_th + q, r.dh_th), np.where(self.revolute, r.dh_d, r.dh_d + q)
+        return (
+            np.where(self.revolute, self.dh_th + q, self.dh_th),
+            np.where(self.revolute, self.dh_d, self.dh_d + q),
+        )
 
     def axis_frames(self, frames: FloatArray) -> FloatArray:
         """The n frames (n, 4, 4) whose z axis and origin carry joints 1..n, from frames 0..n."""
@@ -143,12 +150,12 @@ class _ChainModel:
         lin = np.where(self.revolute[:, None], _cross(z, p_e - axes[:, :3, 3]), z)
         return np.concatenate([lin.T, (z * self.revolute[:, None]).T])
 
-    def moving_position_rows(self) -> FloatArray:
-        """Indices of the position rows of the Jacobian that are not structurally zero,
-        found once from a few random in-range configurations."""
+    def moving_position_rows(self, robot: RobotParams) -> FloatArray:
+        """Indices of the position rows of ``robot``'s Jacobian (the robot of this model)
+        that are not structurally zero, found once from a few random in-range configurations."""
         if self._moving_rows is None:
-            probe = random_configurations(self.robot, 8, np.random.default_rng(0))
-            jac = jacobian(self.robot, probe)
+            probe = random_configurations(robot, 8, np.random.default_rng(0))
+            jac = jacobian(robot, probe)
             self._moving_rows = np.flatnonzero(np.abs(jac[:, :3, :]).max(axis=(0, 2)) > 1e-9)
         return self._moving_rows
 
@@ -187,18 +194,18 @@ class _ChainModel:
                 k += 1
             else:
                 c, s = self.ct_const[j], self.st_const[j]
-            d = Q[:, j] + self.robot.dh_d[j] if not self.revolute[j] else self.robot.dh_d[j]
+            d = Q[:, j] + self.dh_d[j] if not self.revolute[j] else self.dh_d[j]
             if self.modified:
                 # Rx(α_{j-1}) Tx(a_{j-1}) Rz(θ_j) Tz(d_j)
                 Y, Z, U = self._twist(j, Y, Z, U, tmp)
-                self._slide(P, X, self.robot.dh_a[j], tmp)
+                self._slide(P, X, self.dh_a[j], tmp)
                 X, Y, U = self._turn(j, c, s, X, Y, U, tmp)
                 self._slide(P, Z, d, tmp)
             else:
                 # Rz(θ_j) Tz(d_j) Tx(a_j) Rx(α_j)
                 X, Y, U = self._turn(j, c, s, X, Y, U, tmp)
                 self._slide(P, Z, d, tmp)
-                self._slide(P, X, self.robot.dh_a[j], tmp)
+                self._slide(P, X, self.dh_a[j], tmp)
                 Y, Z, U = self._twist(j, Y, Z, U, tmp)
             if sink is not None:
                 sink(j + 1, X, Y, Z, P)
@@ -298,9 +305,19 @@ def _model(robot: RobotParams) -> _ChainModel:
 
 
 def _world0(robot: RobotParams, world_tf: HomogeneousTransform | ArrayLike | None) -> FloatArray:
+    """Frame 0 in the world: ``world_tf @ base_tf``; ValueError unless ``world_tf`` is None
+    or a rigid 4×4 transform."""
     if world_tf is None:
         return robot.base_tf.mat
-    mat = world_tf.mat if isinstance(world_tf, HomogeneousTransform) else np.asarray(world_tf, dtype=float)
+    try:
+        mat = world_tf.mat if isinstance(world_tf, HomogeneousTransform) else np.asarray(world_tf, dtype=float)
+    except (ValueError, TypeError):
+        mat = None
+    if mat is None or mat.shape != (4, 4) or not is_rigid_transform(mat):
+        raise ValueError(
+            "world_tf must be a rigid 4x4 transform (finite, orthonormal rotation with det +1, "
+            f"bottom row [0 0 0 1]), got {clip_repr(world_tf)}"
+        )
     return mat @ robot.base_tf.mat
 
 
@@ -402,7 +419,7 @@ def manipulability(robot: RobotParams, q: ArrayLike, jac: ArrayLike | None = Non
     J = jacobian(robot, q) if jac is None else np.asarray(jac, dtype=float)
     n = robot.n_dofs
     if n < 6:
-        J = J[..., _model(robot).moving_position_rows(), :]
+        J = J[..., _model(robot).moving_position_rows(robot), :]
     JJt = J @ np.swapaxes(J, -1, -2) if J.shape[-2] <= n else np.swapaxes(J, -1, -2) @ J
     m = np.sqrt(np.clip(np.linalg.det(JJt), 0.0, None))
     return float(m) if m.ndim == 0 else m
@@ -526,10 +543,20 @@ def workspace_points(
     robot: RobotParams, n_samples: int, seed: int | None = None
 ) -> tuple[FloatArray, FloatArray]:
     """Endeffector positions (n_samples, 3) [m, world] of uniformly sampled in-limit
-    configurations, and the manipulability (n_samples,) of each (see :func:`manipulability`)."""
-    if n_samples < 1:
-        raise ValueError(f"n_samples must be a positive integer, got {n_samples}")
-    Q = random_configurations(robot, int(n_samples), np.random.default_rng(seed))
+    configurations, and the manipulability (n_samples,) of each (see :func:`manipulability`).
+
+    ValueError for an ``n_samples`` that is not a positive integer or needs more memory
+    than :func:`max_workspace_samples` allows, a bad ``seed``, or a prismatic joint
+    without limits (its range cannot be sampled)."""
+    n_samples = _check_int("n_samples", n_samples, 1)
+    seed = _check_seed(seed)
+    limit = max_workspace_samples(robot)
+    if n_samples > limit:
+        raise ValueError(
+            f"n_samples = {clip_repr(n_samples)} needs {_size_text(n_samples * _workspace_bytes(robot))} "
+            f"of memory; at most {limit} samples fit in the {_size_text(available_memory())} available"
+        )
+    Q = random_configurations(robot, n_samples, np.random.default_rng(seed))
     points = np.empty((Q.shape[0], 3))
     manip = np.empty(Q.shape[0])
     for s in range(0, Q.shape[0], CHUNK * 8):
@@ -538,6 +565,35 @@ def workspace_points(
         points[s : s + len(chunk)] = forward_kinematics(robot, chunk)[:, :3, 3]
         manip[s : s + len(chunk)] = manipulability(robot, chunk, jac)
     return points, manip
+
+
+def available_memory() -> int:
+    """Bytes of memory the system can give this process without swapping (Linux
+    ``MemAvailable``; elsewhere the free physical pages)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+
+
+def _workspace_bytes(robot: RobotParams) -> int:
+    """Bytes :func:`workspace_points` holds per sample: its configuration, point and
+    manipulability (float64)."""
+    return 8 * (robot.n_dofs + 4)
+
+
+def max_workspace_samples(robot: RobotParams) -> int:
+    """Most samples :func:`workspace_points` accepts: what fits in half the available
+    memory (the other half is left for drawing them and for everything else)."""
+    return max(1, available_memory() // 2 // _workspace_bytes(robot))
+
+
+def _size_text(n_bytes: int) -> str:
+    return f"about {n_bytes / 2**30:.3g} GiB" if n_bytes < 2**80 else "more than 2**80 bytes"
 
 
 # ------------------------------------------------------------------ inverse kinematics
@@ -569,22 +625,56 @@ def ik_position_only_required(robot: RobotParams) -> bool:
     return robot.n_dofs < 6
 
 
+def _is_real(value: object) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
 def _check_tolerance(name: str, value: float) -> float:
-    if not (np.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    if not (_is_real(value) and math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be a positive finite number, got {clip_repr(value)}")
     return float(value)
 
 
+def _check_int(name: str, value: int, minimum: int) -> int:
+    """``value`` as an int >= ``minimum`` (Python or NumPy integer, not bool); ValueError otherwise."""
+    if not (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and value >= minimum):
+        wanted = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
+        raise ValueError(f"{name} must be {wanted}, got {clip_repr(value)}")
+    return int(value)
+
+
+def _check_seed(seed: int | None) -> int | None:
+    if seed is not None and not (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
+        raise ValueError(f"seed must be None or a non-negative integer, got {clip_repr(seed)}")
+    return seed
+
+
 def _target_matrix(target: HomogeneousTransform | ArrayLike) -> FloatArray:
-    mat = target.mat if isinstance(target, HomogeneousTransform) else np.asarray(target, dtype=float)
+    try:
+        mat = target.mat if isinstance(target, HomogeneousTransform) else np.asarray(target, dtype=float)
+    except (ValueError, TypeError):
+        raise ValueError(f"IK target must be a 4x4 transform, got {clip_repr(target)}") from None
     if mat.shape != (4, 4):
         raise ValueError(f"IK target must be a 4x4 transform, got shape {mat.shape}")
     if not is_rigid_transform(mat):
         raise ValueError(
             "IK target is not a rigid transform (needs finite values, an orthonormal rotation "
-            f"with det +1 and bottom row [0 0 0 1]):\n{mat}"
+            f"with det +1 and bottom row [0 0 0 1]), got {clip_repr(mat.tolist(), 200)}"
         )
     return mat
+
+
+def characteristic_length(robot: RobotParams) -> float:
+    """A length [m] that scales with the robot: the sum of |a| and |d| over the joints,
+    the tool offset and the travel of limited prismatic joints (1 m if all are zero).
+    Inverse kinematics divides position errors by it, so its iterations are the same for
+    a robot and any scaled copy of it."""
+    prismatic = robot.jtype != JTYPE_REVOLUTE
+    travel = np.where(prismatic & np.isfinite(robot.q_min) & np.isfinite(robot.q_max), robot.q_max - robot.q_min, 0.0)
+    length = float(
+        np.abs(robot.dh_a).sum() + np.abs(robot.dh_d).sum() + np.linalg.norm(robot.endeff_tf.mat[:3, 3]) + travel.sum()
+    )
+    return length if 0.0 < length < math.inf else 1.0
 
 
 @dataclass(frozen=True)
@@ -611,13 +701,13 @@ class _IKProblem:
     LAMBDA_MAX = 1e6
     LAMBDA_DOWN = 0.2
     LAMBDA_UP = 10.0
-    MAX_STEP = 0.6  # largest joint step per iteration [rad or m], keeps far starts stable
+    MAX_STEP = 0.6  # largest joint step per iteration [rad, or characteristic lengths], keeps far starts stable
     STALL_RATIO = 0.999  # an iteration that keeps more of the cost than this makes no progress
     STALL_ITERS = 6  # this many in a row: the descent has stalled
     ITERS_PER_START = 40  # a start that has not converged by then is abandoned
     NULLSPACE_GAIN = 0.05  # pull of redundant joints toward home per iteration
     NULLSPACE_MIN_COST = 1e-6  # below this squared error the pull stops, so the last steps are pure Gauss-Newton
-    PRISMATIC_RESTART_SPAN = 1.0  # m either side of the current value for an unlimited prismatic joint
+    PRISMATIC_RESTART_SPAN = 1.0  # characteristic lengths either side of the current value for an unlimited prismatic joint
 
     def __init__(
         self,
@@ -638,14 +728,21 @@ class _IKProblem:
         self.rows = slice(0, 3) if position_only else slice(0, 6)
         self.redundant = robot.n_dofs > (3 if position_only else 6)
         self.world0 = robot.base_tf.mat
+        # The descent runs in scale-free units: positions in characteristic lengths L,
+        # prismatic joint values too; angles stay radians.  ``var_scale`` turns a step in
+        # those units back into joint units.
+        self.length = characteristic_length(robot)
+        self.var_scale = np.where(self.model.revolute, 1.0, self.length)
 
     def evaluate(self, q: FloatArray) -> _Pose:
+        """Pose at q: error and Jacobian in scale-free units, error norms in m and rad."""
         frames = self.model.frames(*self.model.th_d(q), self.world0)
         ee = frames[-1] @ self.model.tool
         dp = self.target[:3, 3] - ee[:3, 3]
         dr = rotation_log(self.target[:3, :3] @ ee[:3, :3].T)
-        jac = self.model.jacobian(frames, ee[:3, 3])[self.rows]
-        err = dp if self.position_only else np.concatenate([dp, dr])
+        jac = self.model.jacobian(frames, ee[:3, 3])[self.rows] * self.var_scale
+        jac[:3] /= self.length
+        err = dp / self.length if self.position_only else np.concatenate([dp / self.length, dr])
         return _Pose(q, err, jac, math.sqrt(dp @ dp), math.sqrt(dr @ dr))
 
     def converged(self, pose: _Pose) -> bool:
@@ -664,8 +761,9 @@ class _IKProblem:
     def restart_sample(self, rng: np.random.Generator, q: FloatArray) -> FloatArray:
         """A random configuration inside the limits (unlimited revolute joints over ±π,
         unlimited prismatic ones around their current value)."""
-        lo = np.where(np.isfinite(self.lo), self.lo, np.where(self.model.revolute, -np.pi, q - self.PRISMATIC_RESTART_SPAN))
-        hi = np.where(np.isfinite(self.hi), self.hi, np.where(self.model.revolute, np.pi, q + self.PRISMATIC_RESTART_SPAN))
+        span = self.PRISMATIC_RESTART_SPAN * self.length
+        lo = np.where(np.isfinite(self.lo), self.lo, np.where(self.model.revolute, -np.pi, q - span))
+        hi = np.where(np.isfinite(self.hi), self.hi, np.where(self.model.revolute, np.pi, q + span))
         return lo + (hi - lo) * rng.random(q.shape[0])
 
     def descend(self, q: FloatArray, bounded: bool, budget: int) -> tuple[_Pose, int]:
@@ -676,7 +774,11 @@ class _IKProblem:
         lam, stalled, used = self.LAMBDA_INIT, 0, 0
         while used < budget and stalled < self.STALL_ITERS and not self.converged(pose):
             used += 1
-            q_new = pose.q + self.step(pose, lam, bounded)
+            try:
+                q_new = pose.q + self.step(pose, lam, bounded)
+            except np.linalg.LinAlgError:  # damping lost in rounding: damp more
+                lam, stalled = min(lam * self.LAMBDA_UP, self.LAMBDA_MAX), stalled + 1
+                continue
             new = self.evaluate(self.into_limits(q_new) if bounded else q_new)
             stalled = 0 if new.cost < pose.cost * self.STALL_RATIO else stalled + 1
             if new.cost < pose.cost:
@@ -702,7 +804,7 @@ class _IKProblem:
         largest = np.max(np.abs(dq))
         if largest > self.MAX_STEP:
             dq *= self.MAX_STEP / largest
-        return dq
+        return dq * self.var_scale
 
     def _damped_step(self, pose: _Pose, jac: FloatArray, lam: float) -> FloatArray:
         gram = jac @ jac.T
@@ -710,7 +812,8 @@ class _IKProblem:
         if self.redundant and pose.cost > self.NULLSPACE_MIN_COST:
             sol = np.linalg.solve(gram, np.column_stack([pose.err, jac]))
             null = np.eye(self.robot.n_dofs) - jac.T @ sol[:, 1:]
-            return jac.T @ sol[:, 0] + null @ (self.NULLSPACE_GAIN * (self.robot.q_home - pose.q))
+            pull = (self.robot.q_home - pose.q) / self.var_scale
+            return jac.T @ sol[:, 0] + null @ (self.NULLSPACE_GAIN * pull)
         return jac.T @ np.linalg.solve(gram, pose.err)
 
 
@@ -751,8 +854,9 @@ def solve_ik(
     tmat = _target_matrix(target)
     tol_pos = _check_tolerance("tol_pos", tol_pos)
     tol_rot = _check_tolerance("tol_rot", tol_rot)
-    if max_iter < 1 or max_restarts < 0:
-        raise ValueError(f"max_iter must be >= 1 and max_restarts >= 0, got {max_iter}, {max_restarts}")
+    max_iter = _check_int("max_iter", max_iter, 1)
+    max_restarts = _check_int("max_restarts", max_restarts, 0)
+    seed = _check_seed(seed)
     q = check_joint_vector(robot.q_home if q0 is None else q0, robot.n_dofs, "q0")
     if q.ndim != 1:
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q.shape}")
@@ -768,30 +872,40 @@ def solve_ik(
     problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
     rng = np.random.default_rng(seed)
 
-    best, iterations, restarts, bounded = None, 0, 0, True
-    while True:
-        pose, used = problem.descend(q, bounded, min(problem.ITERS_PER_START, max_iter - iterations))
-        iterations += used
-        if not bounded:
-            pose = problem.evaluate(problem.into_limits(pose.q))
-            if not problem.converged(pose) and iterations < max_iter:
-                pose, used = problem.descend(pose.q, True, min(problem.ITERS_PER_START, max_iter - iterations))
+    # From here on nothing raises: overflow on absurd robots gives inf/NaN errors that no
+    # step accepts, and any arithmetic failure ends the search with the best pose so far.
+    best, iterations, restarts, bounded, failure = None, 0, 0, True, ""
+    with np.errstate(all="ignore"):
+        try:
+            while True:
+                pose, used = problem.descend(q, bounded, min(problem.ITERS_PER_START, max_iter - iterations))
                 iterations += used
-        if best is None or pose.cost < best.cost:
-            best = pose
-        if problem.converged(best) or restarts >= max_restarts or iterations >= max_iter:
-            break
-        restarts += 1
-        q, bounded = problem.restart_sample(rng, best.q), False
+                if not bounded:
+                    pose = problem.evaluate(problem.into_limits(pose.q))
+                    if not problem.converged(pose) and iterations < max_iter:
+                        pose, used = problem.descend(pose.q, True, min(problem.ITERS_PER_START, max_iter - iterations))
+                        iterations += used
+                if best is None or pose.cost < best.cost:
+                    best = pose
+                if problem.converged(best) or restarts >= max_restarts or iterations >= max_iter:
+                    break
+                restarts += 1
+                q, bounded = problem.restart_sample(rng, best.q), False
+        except (np.linalg.LinAlgError, ArithmeticError) as exc:
+            failure = f"numerical failure ({clip(str(exc))}) after {iterations} iterations: "
+        if best is None:  # failed in the first descent: report where it started
+            q_start = problem.into_limits(q) if np.isfinite(q).all() else np.array(robot.q_home)
+            try:
+                best = problem.evaluate(q_start)
+            except (np.linalg.LinAlgError, ArithmeticError):
+                best = _Pose(q_start, np.full(1, np.inf), np.zeros((1, robot.n_dofs)), math.inf, math.inf)
 
-    success = problem.converged(best)
+    success = problem.converged(best) and not failure
     if success:
         message += f"converged in {iterations} iterations ({restarts} restarts)"
     else:
-        message += (
-            f"did not converge in {iterations} iterations ({restarts} restarts): "
-            f"position error {best.pos_err:.3g} m, rotation error {best.rot_err:.3g} rad"
-        )
+        message += failure or f"did not converge in {iterations} iterations ({restarts} restarts): "
+        message += f"position error {best.pos_err:.3g} m, rotation error {best.rot_err:.3g} rad"
     return IKResult(
         q=best.q.copy(),
         success=success,

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from messages import clip_repr
 from robot_defs import JTYPE_REVOLUTE, RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -20,7 +21,15 @@ FloatArray = NDArray[np.float64]
 def check_joint_vector(values: ArrayLike, n: int, what: str = "q") -> FloatArray:
     """``values`` as a float array of shape (n,) or (N, n); ValueError naming ``what`` if the
     last dimension is not n, the array is not 1- or 2-D, or an entry is NaN or infinite."""
-    arr = np.asarray(values, dtype=float)
+    try:
+        raw = np.asarray(values)
+    except (ValueError, TypeError):  # ragged nesting
+        raise ValueError(f"{what} must be a sequence of numbers, got {clip_repr(values)}") from None
+    if raw.dtype.kind == "c":
+        raise ValueError(f"{what} must hold real numbers, got {clip_repr(values)}")
+    if raw.dtype.kind not in "iuf":
+        raise ValueError(f"{what} must be a sequence of numbers, got {clip_repr(values)}")
+    arr = raw.astype(float, copy=False)
     if arr.ndim not in (1, 2) or arr.shape[-1] != n:
         raise ValueError(f"{what} must have {n} joint values per configuration, got shape {arr.shape}")
     if not np.isfinite(arr).all():
