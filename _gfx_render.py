@@ -9,7 +9,8 @@ from numpy.typing import NDArray
 
 import graphics_defs as gd
 from _gfx_camera import Camera
-from _gfx_drawables import AxesGraphics, RobotGraphics, TargetGraphics, VectorGraphics, frame_poses, ground_for, robot_reach
+from _gfx_drawables import AxesGraphics, RobotGraphics, TargetGraphics, VectorGraphics, frame_poses, ground_for
+from _gfx_robot import part_corners, robot_look, robot_parts, robot_reach
 from _gfx_gl import GL, context_key, gl_matrix
 from _gfx_resources import resources
 from _gfx_scene import GraphicsOptions, Scene
@@ -52,9 +53,9 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     """Draw ``scene`` seen by ``camera`` into the current GL context's framebuffer,
     ``width`` x ``height`` pixels.  The one render path of every host.
 
-    Order: clear; opaque pass (ground, workspace cloud, robot when opaque); translucent
-    pass (robot when ``options.alpha`` < 1, then the ghost), blended without depth
-    writes; then, over a cleared depth buffer so nothing hides them, the annotations:
+    Order: clear; opaque pass (workspace cloud, robot when opaque); translucent pass
+    (the floor, the ghost where it differs from the robot, the robot when
+    ``options.alpha`` < 1), blended without depth writes; then, over a cleared depth buffer so nothing hides them, the annotations:
     selected frames, the IK target and the vectors.  Raises RuntimeError when no GL
     context is current.
     """
@@ -77,24 +78,45 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
 
     cloud = scene.workspace if options.show_workspace else None
     cloud_drawn = cloud is not None and cloud.draw_from_picture(camera, width, height)
-    base_xy = kin.h_tf[0].t()[:2]
-    ground_for(reach, float(base_xy[0]), float(base_xy[1])).draw()
     if cloud is not None and not cloud_drawn:
         cloud.draw()
     robot = robot_item(kin)
-    robot.alpha, robot.wireframe = float(options.alpha), options.wireframe
+    robot.alpha, robot.wireframe, robot.show_com = float(options.alpha), options.wireframe, options.show_com
     if robot.gl_preset == "opaque":
         robot.draw()
+    base_xy = kin.frames[0, :2, 3]
+    ground_for(reach, float(base_xy[0]), float(base_xy[1])).draw()
     if options.show_ghost and scene.ghost is not None:
         ghost = robot_item(scene.ghost, ghost=True)
-        ghost.wireframe = options.wireframe
+        ghost.reference, ghost.wireframe, ghost.show_com = robot, options.wireframe, options.show_com
         ghost.draw()
     if robot.gl_preset != "opaque":
         robot.draw()
 
     GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-    AxesGraphics(robot.sizes.frame_length, frame_poses(kin, options.show_frames, options.show_endeff_frame)).draw()
+    AxesGraphics(robot.look.frame_length, frame_poses(kin, options.show_frames, options.show_endeff_frame)).draw()
     if options.show_target and scene.target_tf is not None:
         TargetGraphics(reach, scene.target_tf, scene.target_reachable).draw()
     if options.show_vectors:
         VectorGraphics(reach, scene.vectors).draw()
+
+
+def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64]:
+    """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
+    and ``options``: the corners of the robot's parts at its current pose, the point
+    of the floor under its base, the tips of the drawn frames' axes, the IK target with
+    its axes, the vectors and the workspace cloud when shown.  For framing (``fit``)."""
+    kin = scene.kinematics
+    look = robot_look(kin.robot)
+    parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if options.show_com else None)
+    frames = frame_poses(kin, options.show_frames, options.show_endeff_frame)
+    points = [part_corners(parts), kin.frames[0, :3, 3] * (1.0, 1.0, 0.0), frames[:, :3, 3]]
+    points += [frames[:, :3, 3] + look.frame_length * frames[:, :3, k] for k in range(3)]
+    if options.show_target and scene.target_tf is not None:
+        target, length = scene.target_tf.mat, look.reach * gd.TARGET_FRAME_LENGTH_FRAC
+        points += [target[:3, 3]] + [target[:3, 3] + length * target[:3, k] for k in range(3)]
+    if options.show_vectors:
+        points += [np.asarray(origin, dtype=float) + np.asarray(vec, dtype=float) for origin, vec, _ in scene.vectors]
+    if options.show_workspace and scene.workspace is not None:
+        points.append(np.asarray(scene.workspace.points, dtype=float))
+    return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])

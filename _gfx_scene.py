@@ -25,7 +25,12 @@ class GraphicsOptions:
     ``show_frames[i]`` shows frame i (``h_tf[i]``) for i in 0..n_frames-1, with
     ``n_frames = n_dofs + 1``; the base frame (index 0) starts shown, the others hidden.
     The endeffector (tool) frame ``endeff_tf`` has its own flag ``show_endeff_frame``
-    so frame indices stay equal to DH frame numbers.
+    so frame indices stay equal to DH frame numbers.  ``show_labels`` writes each drawn
+    frame's number (0, 1, ..., E) next to it; ``show_com`` draws each link's centre of
+    mass.  ``annotate_joint`` = i (1..n_dofs, DH table row i) draws joint i's DH
+    parameters between frames i−1 and i (standard: d_i along z_{i−1}, θ_i about z_{i−1},
+    a_i along x_i, α_i about x_i; modified: a_{i−1}, α_{i−1}, θ_i, d_i), each labelled
+    with its value; None draws none.
     """
 
     def __init__(self, n_frames: int) -> None:
@@ -39,6 +44,11 @@ class GraphicsOptions:
         self.show_workspace: bool = False
         self.show_ghost: bool = True
         self.show_target: bool = True
+        self.show_com: bool = False
+        self.show_labels: bool = True
+        # joint number i (1..n_dofs, the DH table's row i) whose DH parameters are drawn
+        # as dimensions and arcs between frames i-1 and i, or None
+        self.annotate_joint: int | None = None
 
     @property
     def n_frames(self) -> int:

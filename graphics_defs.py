@@ -1,9 +1,9 @@
 """Constants of the viewer: sizes, colours, tessellation, camera and lighting.
 
 Data only, no logic.  Colours are RGBA tuples of floats in [0, 1].  Robot part
-sizes are fractions of the robot's *reach* (the sum of its DH link lengths and
-offsets, see ``graphics_objects.robot_reach``), so a 0.5 m arm and a 3 m arm
-look alike on screen; other lengths are in metres.
+sizes follow each link's own dimensions within fractions of the robot's *reach*
+(the sum of its DH link lengths and offsets, see ``graphics_objects.robot_reach``),
+so a 3 cm arm and a 3 m arm look alike on screen; other lengths are in metres.
 """
 
 # --- window background --------------------------------------------------------
@@ -14,29 +14,43 @@ CYLINDER_SLICES = 16          # segments around a cylinder, disk or cone
 SPHERE_SLICES = 16            # segments around a sphere (longitude)
 SPHERE_STACKS = 10            # segments pole to pole (latitude)
 
-# --- robot reach used to scale the parts (metres) -----------------------------
-REACH_MIN = 0.2               # a robot smaller than this is drawn at this scale
+# --- robot scale used to size the parts (metres) ------------------------------
+REACH_MIN = 0.01              # a robot smaller than this (a degenerate one) is drawn at this scale
 REACH_MAX = 20.0              # a robot larger than this is drawn at this scale
 
-# --- robot part sizes, as fractions of the reach ------------------------------
-LINK_RADIUS_FRAC = 0.018      # link cylinder radius
-JOINT_RADIUS_FRAC = 0.035     # revolute joint cylinder radius
-PEDESTAL_RADIUS_FRAC = 0.05   # column from the ground up to a raised base (frame 0)
-JOINT_LENGTH_FRAC = 0.10      # revolute joint cylinder length along its axis
-PRISMATIC_WIDTH_FRAC = 0.06   # prismatic joint box side across the axis
-PRISMATIC_LENGTH_FRAC = 0.14  # prismatic joint box length along the axis
-ENDEFF_RADIUS_FRAC = 0.05     # endeffector sphere radius: larger than a joint, so a wrist centre shows it
-COM_RADIUS_FRAC = 0.022       # link centre-of-mass sphere radius
+# --- robot part sizes -------------------------------------------------------------
+# Each joint's size follows the links that meet at it (the longer of the two, its
+# "local length"), clamped to fractions of the robot's reach; then, with the arm at
+# home, every joint is shrunk until it clears its neighbours and the endeffector.
+JOINT_RADIUS_LOCAL_FRAC = 0.14   # joint cylinder radius, fraction of its local length ...
+JOINT_RADIUS_MIN_FRAC = 0.012    # ... at least this fraction of the reach ...
+JOINT_RADIUS_MAX_FRAC = 0.035    # ... at most this one
+JOINT_HALF_LENGTH_RATIO = 1.4    # revolute cylinder half length along its axis / its radius
+JOINT_CLEARANCE = 0.45           # a joint's bounding sphere <= this * distance to the next joint
+PART_MIN_FRAC = 0.003            # no part radius below this fraction of the reach
+LINK_RADIUS_RATIO = 0.5          # link cylinder radius / the smaller joint radius at its ends
+ENDEFF_RADIUS_RATIO = 1.2        # endeffector sphere radius / the last joint's radius
+ENDEFF_MIN_FRAC = 0.02           # endeffector sphere radius at least this fraction of the reach
+ENDEFF_COINCIDENT_RATIO = 0.5    # an endeffector closer than this * its radius to a joint sits in it ...
+ENDEFF_NEAR_RATIO = 1.2          # ... and is drawn this * the joint radius
+COM_RADIUS_RATIO = 1.3           # centre-of-mass sphere radius / its link's radius
+PRISMATIC_SLEEVE_RATIO = 0.8     # prismatic sleeve half width / the joint radius
+PRISMATIC_ROD_RATIO = 0.55       # sliding rod radius / the joint radius
+UNLIMITED_STROKE_FRAC = 0.25     # drawn stroke of an unlimited prismatic joint, fraction of the reach
+BASE_PLATE_RATIO = 1.8           # base plate radius / the first joint's radius
+BASE_PLATE_THICKNESS_RATIO = 0.3  # base plate thickness / its radius
 MIN_LINK_LENGTH = 1e-6        # metres; shorter links and tool segments are not drawn
 
 # --- robot colours ---------------------------------------------------------------
 LINK_COLOR = (0.80, 0.80, 0.82, 1.0)      # light grey
 JOINT_COLOR = (0.30, 0.30, 0.33, 1.0)     # dark grey
-PEDESTAL_COLOR = (0.45, 0.45, 0.48, 1.0)  # mid grey
+BASE_COLOR = (0.45, 0.45, 0.48, 1.0)      # mid grey: base plate and the line down to the floor
 ENDEFF_COLOR = (0.90, 0.08, 0.08, 1.0)    # red
 COM_COLOR = (0.10, 0.25, 0.95, 1.0)       # blue
 TRANSLUCENT_ALPHA = 0.35                  # robot alpha when transparency is on
-GHOST_COLOR = (0.30, 0.85, 1.00, 0.40)    # desired state, drawn translucent
+GHOST_COLOR = (0.30, 0.85, 1.00, 0.40)    # desired state, drawn translucent where it differs
+GHOST_TOLERANCE = 1e-6                    # metres: ghost parts closer than this to the arm's are not drawn
+GHOST_POLYGON_OFFSET = (1.0, 4.0)         # pushes the ghost behind an arm surface it touches
 
 # --- coordinate frames (RGB axes with cone tips) ---------------------------------
 FRAME_LENGTH_FRAC = 0.16      # axis length, fraction of the reach
@@ -60,13 +74,13 @@ TARGET_MARKER_RADIUS_FRAC = 0.022   # fraction of the reach
 TARGET_COLOR = (1.00, 0.85, 0.00, 1.0)              # yellow: reachable
 TARGET_UNREACHABLE_COLOR = (1.00, 0.00, 0.85, 1.0)  # magenta: warning
 
-# --- ground plane and grid (z = 0 in the world) ---------------------------------
-GROUND_COLOR = (0.42, 0.44, 0.47, 1.0)
-GRID_COLOR = (0.30, 0.31, 0.34, 1.0)
-GROUND_EXTENT_FRAC = 1.5      # half side of the ground square, fraction of the reach
+# --- floor and grid (z = 0 in the world): translucent, the arm passes through it ----
+GROUND_COLOR = (0.42, 0.44, 0.47, 0.35)  # the floor's alpha: parts below it show through
+GRID_COLOR = (0.62, 0.64, 0.68, 0.8)
+GROUND_EXTENT_FRAC = 1.5      # half side of the floor square, fraction of the reach
 GRID_LINES_PER_HALF = 10      # about this many grid cells from the centre to an edge
-GRID_STEPS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0)  # metres, first >= target used
-GROUND_POLYGON_OFFSET = (1.0, 1.0)  # glPolygonOffset(factor, units) keeps grid lines above the plane
+GRID_STEPS = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0)  # metres, first >= target used
+BASE_LINE_STIPPLE = (2, 0x0F0F)  # glLineStipple(factor, pattern) of the line from a raised base to the floor
 
 # --- workspace point cloud ---------------------------------------------------------
 WORKSPACE_POINT_SIZE = 2.0    # pixels
@@ -85,13 +99,13 @@ CAMERA_AZIMUTH_DEG = 45.0     # eye direction about world z, from +x
 CAMERA_ELEVATION_DEG = 25.0   # eye direction above the xy plane
 CAMERA_FOV_DEG = 45.0         # vertical field of view
 CAMERA_MAX_ELEVATION_DEG = 89.0   # |elevation| is clamped to this
-CAMERA_MIN_DISTANCE = 0.05    # metres
+CAMERA_MIN_DISTANCE = 0.005   # metres
 CAMERA_MAX_DISTANCE = 200.0   # metres
 CAMERA_NEAR_FRAC = 0.01       # near plane at this fraction of the distance
 CAMERA_FAR_FRAC = 20.0        # far plane at this multiple of the distance ...
 CAMERA_FAR_MARGIN = 10.0      # ... plus this many metres
 CAMERA_FIT_MARGIN = 1.15      # fit() leaves this much room around the points
-CAMERA_FIT_MIN_RADIUS = 0.05  # metres; fit() frames at least a sphere this big
+CAMERA_FIT_MIN_RADIUS = 0.002  # metres; fit() frames at least a sphere this big
 
 # --- lighting (fixed-function) ------------------------------------------------------
 # Light 0 is a headlight (eye space, shines along the view); light 1 is fixed in
@@ -212,8 +226,10 @@ DEMO_CIRCLE_PERIOD_S = 4.0
 DEMO_FEEDBACK_GAIN = 5.0             # 1/s, pulls the endeffector back onto the circle
 
 # Motion vectors: arrow length per unit velocity
-VECTOR_SCALE_LINEAR = 0.5            # m of arrow per m/s
-VECTOR_SCALE_ANGULAR = 0.1           # m of arrow per rad/s (colours: *_VELOCITY_COLOR above)
+# (arrows start on the endeffector sphere's surface, so all of an arrow shows; the
+# circle demo's 0.16 m/s makes a 0.24 m arrow)
+VECTOR_SCALE_LINEAR = 1.5            # m of arrow per m/s
+VECTOR_SCALE_ANGULAR = 0.3           # m of arrow per rad/s (colours: *_VELOCITY_COLOR above)
 
 # Workspace cloud
 WORKSPACE_DEFAULT_POINTS = 200_000

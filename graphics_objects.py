@@ -16,7 +16,8 @@ The work is done by private modules, one job each:
 * ``_gfx_meshes``: unit meshes tessellated once;
 * ``_gfx_resources``: per-context GL objects and :class:`Drawable`, the base of every
   drawable, which owns its GL objects and paints itself (pyqtgraph's item model);
-* ``_gfx_drawables``: ground, axes, arrows, IK target, robot;
+* ``_gfx_robot``: the robot as its DH segments and joints, part sizes (no GL);
+* ``_gfx_drawables``: floor, axes, arrows, IK target, robot;
 * ``_gfx_cloud``: the workspace cloud with its vertex buffer and picture cache;
 * ``_gfx_render``: :func:`render_scene`;
 * ``_gfx_offscreen``: :class:`OffscreenRenderer` (OSMesa) and :func:`save_png`.
@@ -32,14 +33,13 @@ from _gfx_drawables import (
     AxesGraphics,
     GroundGraphics,
     RobotGraphics,
-    RobotSizes,
     TargetGraphics,
     VectorGraphics,
-    robot_reach,
 )
 from _gfx_gl import GL_PRESETS, gl_state, require_osmesa_platform
 from _gfx_offscreen import OffscreenRenderer, save_png
-from _gfx_render import render_scene
+from _gfx_render import render_scene, visible_points
+from _gfx_robot import DHSegments, Part, RobotLook, dh_segments, differing, robot_look, robot_parts, robot_reach
 from _gfx_resources import Drawable
 from _gfx_scene import RGBA, GraphicsOptions, Scene, Vector
 
@@ -53,7 +53,13 @@ __all__ = [
     "GroundGraphics",
     "OffscreenRenderer",
     "RobotGraphics",
-    "RobotSizes",
+    "RobotLook",
+    "DHSegments",
+    "Part",
+    "dh_segments",
+    "differing",
+    "robot_look",
+    "robot_parts",
     "Scene",
     "TargetGraphics",
     "Vector",
@@ -65,4 +71,5 @@ __all__ = [
     "require_osmesa_platform",
     "robot_reach",
     "save_png",
+    "visible_points",
 ]

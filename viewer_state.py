@@ -128,13 +128,11 @@ class ViewerSession:
         self.ghost.update(self.state.joint_state_des)
 
     def fit_camera(self) -> None:
-        """Reset the camera and frame the robot's joint origins, its foot on the ground and
-        the workspace cloud if there is one (world, m)."""
-        origins = np.array([h.t() for h in self.kin.h_tf] + [self.kin.endeff_tf.t()])
-        foot = origins[0] * np.array([1.0, 1.0, 0.0])
-        cloud = np.zeros((0, 3)) if self.workspace is None else self.workspace.points
+        """Reset the camera and frame everything drawn (``graphics_objects.visible_points``):
+        the arm at its current pose, the floor under its base, the drawn frames, the IK
+        target and the workspace cloud when shown (world, m)."""
         self.camera.reset()
-        self.camera.fit(np.vstack([origins, foot, cloud]), self.aspect)
+        self.camera.fit(go.visible_points(self.scene(), self.options), self.aspect)
 
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
@@ -248,13 +246,18 @@ class ViewerSession:
 
     # ---- drawing ----
     def velocity_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
-        """Endeffector linear (m/s) and angular (rad/s) velocity arrows at its origin (world)."""
-        origin = self.kin.endeff_tf.t()
+        """Endeffector linear (m/s) and angular (rad/s) velocity arrows (world): each
+        starts on the endeffector sphere's surface in its own direction, ``VECTOR_SCALE_*``
+        metres long per unit, so the whole arrow shows outside the sphere."""
+        centre = self.kin.endeff_tf.t()
+        radius = go.robot_look(self.robot).endeff_radius
         twist = np.asarray(self.kin.endeff_twist)
-        return [
-            (origin, twist[:3] * gd.VECTOR_SCALE_LINEAR, gd.LINEAR_VELOCITY_COLOR),
-            (origin, twist[3:] * gd.VECTOR_SCALE_ANGULAR, gd.ANGULAR_VELOCITY_COLOR),
-        ]
+        arrows = []
+        for vec, color in ((twist[:3] * gd.VECTOR_SCALE_LINEAR, gd.LINEAR_VELOCITY_COLOR),
+                           (twist[3:] * gd.VECTOR_SCALE_ANGULAR, gd.ANGULAR_VELOCITY_COLOR)):
+            norm = float(np.linalg.norm(vec))
+            arrows.append((centre + (vec / norm * radius if norm > 0.0 else 0.0), vec, color))
+        return arrows
 
     def scene(self) -> Any:
         """The graphics_objects.Scene of the current state."""

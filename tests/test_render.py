@@ -209,7 +209,7 @@ def test_endeffector_sphere_is_where_forward_kinematics_puts_it(render: Frames, 
     xy = project(camera, kin.endeff_tf.t())[0]
     assert window(red, xy).any(), f"{name} q={q}: no endeffector red within 2 px of {xy.round(1)}"
     # The red blob is centred on the projection (the sphere is the only red part).
-    radius = go.robot_reach(kin.robot) * gd.ENDEFF_RADIUS_FRAC
+    radius = go.robot_look(kin.robot).endeff_radius
     right, _ = camera.view_plane_axes()
     radius_px = float(np.linalg.norm(np.diff(project(camera, [kin.endeff_tf.t(), kin.endeff_tf.t() + radius * right]), axis=0)))
     ys, xs = np.nonzero(red)
@@ -274,7 +274,7 @@ def assert_axes_drawn(on: np.ndarray, off: np.ndarray, camera: go.Camera, tf: Ho
 def assert_frame_axes_drawn(render: Frames, kin: Kinematics, i: int, options: go.GraphicsOptions) -> None:
     """Frame ``i`` off in ``options``: turning it on puts RGB pixels along its axes."""
     tf = kin.h_tf[i]
-    length = go.RobotSizes(go.robot_reach(kin.robot)).frame_length
+    length = go.robot_look(kin.robot).frame_length
     camera = axes_camera(tf, length)
     assert not options.show_frames[i]
     off = render(camera, go.Scene(kin), options)
@@ -292,7 +292,7 @@ def test_frame_toggle_draws_rgb_axes(render: Frames, name: str, i: int) -> None:
 
 def test_endeffector_frame_toggle_draws_rgb_axes(render: Frames) -> None:
     kin = posed("anthropomorphic", [30 * DEG, 60 * DEG, -45 * DEG])
-    length = go.RobotSizes(go.robot_reach(kin.robot)).frame_length
+    length = go.robot_look(kin.robot).frame_length
     camera = axes_camera(kin.endeff_tf, length)
     options = options_for(kin)
     off = render(camera, go.Scene(kin), options)
@@ -350,12 +350,28 @@ def assert_link_drawn_downward(render: Frames, kin: Kinematics, joint: np.ndarra
         assert not window(robot, xy, 2).any(), f"robot pixels at {xy.round(1)}, above the joint where nothing is"
 
 
-def test_spherical_link_pointing_down_is_drawn_below_the_joint(render: Frames) -> None:
+def test_spherical_prismatic_link_pointing_down_is_a_rod_below_a_sleeve_above(render: Frames) -> None:
+    """The prismatic joint (limits 0.1..0.9 m, at 0.5 m) points straight down: its rod,
+    as long as the stroke (0.8 m), reaches from the tip 0.5 m below the joint to 0.3 m
+    above it; the sleeve, as long too, ends 0.1 m below the joint where the travel
+    starts, so it reaches 0.7 m above the joint; nothing is farther up."""
     kin = posed("spherical", [0.0, math.pi, 0.5])
     joint, tip = kin.h_tf[2].t(), kin.endeff_tf.t()
     np.testing.assert_allclose(joint, [0.0, 0.2, 0.6], atol=1e-9)
     np.testing.assert_allclose(tip - joint, [0.0, 0.0, -0.5], atol=1e-9)  # straight down, 0.5 m
-    assert_link_drawn_downward(render, kin, joint, tip, azimuth_deg=0.0)  # y across the screen
+    up = np.array([0.0, 0.0, 1.0])
+    camera = framed(np.vstack([key_points(kin), joint + up]), azimuth_deg=0.0)  # y across the screen
+    image, empty = render.pair(camera, kin, options_for(kin))
+    robot = robot_mask(image, empty)
+    for xy in project(camera, along(joint, tip, (0.3, 0.45, 0.6, 0.75))):
+        assert window(robot, xy, 1).any(), f"no robot pixel at {xy.round(1)} on the downward rod"
+    for height in (0.2, 0.4, 0.6):
+        xy = project(camera, joint + height * up)[0]
+        assert window(robot, xy, 1).any(), f"no sleeve {height} m above the joint at {xy.round(1)}"
+    for height in (0.8, 0.95):
+        xy = project(camera, joint + height * up)[0]
+        assert not window(robot, xy, 2).any(), f"robot pixels {height} m above the joint, past the sleeve"
+    assert window(color_mask(image, gd.ENDEFF_COLOR), project(camera, tip)[0]).any(), "endeffector hidden"
 
 
 # -------------------------------------------------------------------- 6. ghost

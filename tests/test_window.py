@@ -253,8 +253,8 @@ def test_target_keys_move_the_ghost_and_robot_follows(app: QApplication, window:
     assert np.linalg.norm(xy_after - xy_before) > 10
     # the current robot has not moved yet: around the yellow target marker only the
     # ghost's endeffector sphere (cyan, translucent) is new
-    reach = graphics_objects.robot_reach(window.session.robot)
-    radius = int(gd.ENDEFF_RADIUS_FRAC * reach / window.session.camera.world_per_pixel(window.view.pixel_size()[1]))
+    endeff_radius = graphics_objects.robot_look(window.session.robot).endeff_radius
+    radius = int(endeff_radius / window.session.camera.world_per_pixel(window.view.pixel_size()[1]))
     assert cyan_pixels(near(grab(window), xy_after, radius)) > cyan_pixels(near(before, xy_after, radius)) + 10
     assert window.timer.isActive()
     wait_until(lambda: not window.timer.isActive())
