@@ -213,7 +213,7 @@ def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
         pictures[frames] = read_png(out)[..., :3].astype(int)
         sessions[frames] = session_from_config(config_from_args(build_parser().parse_args(args)))
     kin = sessions["0"].kin
-    length = go.RobotSizes(go.robot_reach(kin.robot)).frame_length
+    length = go.robot_look(kin.robot).frame_length
     base = kin.h_tf[0]
     for column, name in ((0, "x"), (1, "y")):
         for frames, expect_axis in (("0", True), ("none", False)):
