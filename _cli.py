@@ -18,7 +18,8 @@ import numpy as np
 
 import graphics_defs as gd
 import graphics_objects as go
-from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
+from _cli_robot import dh_table_text, export
+from robot_defs import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
 from viewer_state import ViewerSession, compute_workspace, display_range, display_scale
 
 PROG = "robot-sim"
@@ -54,8 +55,14 @@ def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``robot-sim`` (errors raise CliError instead of exiting)."""
     w, h = gd.WINDOW_DEFAULT_SIZE
     parser = _Parser(prog=PROG, description="DH robot manipulator simulator with an OpenGL viewer.")
-    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml",
-                        help=f"shipped robot name or robot file (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf",
+                        help=f"shipped robot name, robot file or URDF file (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--tip", metavar="LINK", help="URDF only: the link that ends the chain (when the tree branches)")
+    parser.add_argument("--convention", choices=CONVENTIONS,
+                        help="DH convention to use (default: the robot file's own; standard for URDF)")
+    parser.add_argument("--print-dh", action="store_true", help="print the DH table in both conventions and exit")
+    parser.add_argument("--export-urdf", metavar="FILE.urdf", help="write the robot as URDF and exit")
+    parser.add_argument("--export-toml", metavar="FILE.toml", help="write the robot as a robot file and exit")
     parser.add_argument("--q", metavar="v1,v2,...",
                         help="start joint values: degrees for revolute, metres for prismatic joints")
     parser.add_argument("--size", default=f"{w}x{h}", metavar="WxH", help=f"picture size in pixels (default: {w}x{h})")
@@ -64,7 +71,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--frames", metavar="all|none|0,2,E",
                         help="show exactly these frames (0 = base frame, E = endeffector); default: the base frame")
     parser.add_argument("--wireframe", action="store_true", help="draw the robot as wireframe")
-    parser.add_argument("--list-robots", action="store_true", help="list the shipped robots and exit")
+    parser.add_argument("--list-robots", action="store_true",
+                        help="list the shipped robots (name, DOF, joints, convention, description) and exit")
     parser.add_argument("--workspace", type=_positive_int, default=0, metavar="N",
                         help="compute and show an N-point workspace cloud")
     parser.add_argument("--demo", choices=DEMOS, help="start a demo: circle = endeffector circle by differential IK")
@@ -160,8 +168,10 @@ def check_display() -> None:
 
 def config_from_args(args: argparse.Namespace) -> Config:
     """Validate parsed arguments: load the robot, parse q, size, frames and the screenshot path."""
+    if args.tip is not None and not args.robot.lower().endswith(".urdf"):
+        raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{args.robot}'")
     try:
-        robot = load_robot(args.robot)
+        robot = load_robot(args.robot, tip=args.tip, convention=args.convention)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
     return Config(
@@ -175,6 +185,22 @@ def config_from_args(args: argparse.Namespace) -> Config:
         workspace=args.workspace,
         demo=args.demo,
     )
+
+
+def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
+    """Run ``--print-dh``, ``--export-urdf`` and ``--export-toml`` (in this order) for the
+    loaded robot; True if any was asked for (the program then exits without a window)."""
+    if args.print_dh:
+        print(dh_table_text(robot))
+    for option, kind in (("--export-urdf", "urdf"), ("--export-toml", "toml")):
+        path = getattr(args, option[2:].replace("-", "_"))
+        if path is None:
+            continue
+        try:
+            print(f"wrote {export(robot, path, kind)}")
+        except (OSError, ValueError) as exc:  # FileWriteError names the path and reason
+            raise CliError(f"{option}: {exc}") from None
+    return bool(args.print_dh or args.export_urdf or args.export_toml)
 
 
 def session_from_config(config: Config) -> ViewerSession:

@@ -59,6 +59,9 @@ JOINT_TYPES = (*MOVING_TYPES, "fixed", *REFUSED_TYPES)
 MAX_URDF_BYTES = 16 << 20
 #: Below this distance (m) two axes meet, below this sine of their angle they are parallel.
 GEOMETRY_TOL = 1e-9
+#: Lengths within this of 0 (m) and angles within this of a multiple of 90° (rad) are
+#: rounded onto them (far below CONSTRUCTION_TOL).
+SNAP_TOL = 1e-12
 #: The DH table must reproduce the URDF's joint frames to this (m, or rad).
 CONSTRUCTION_TOL = 1e-9
 _DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.IGNORECASE)
@@ -267,12 +270,19 @@ def _dh_frames(points: np.ndarray, axes: np.ndarray, joint_x: np.ndarray) -> np.
     return frames
 
 
+def _snap(value: float, step: float | None = None) -> float:
+    """``value`` moved onto the nearest multiple of ``step`` (0 when None) when within
+    SNAP_TOL of it (rounding noise: 1e-16 m becomes 0, 89.99999999999999° 90°)."""
+    nearest = 0.0 if step is None else round(value / step) * step
+    return nearest + 0.0 if abs(value - nearest) < SNAP_TOL else value
+
+
 def _modified_row(rel: np.ndarray) -> tuple[float, float, float, float]:
-    """(a, α, θ, d) of rel = Rx(α) Tx(a) Rz(θ) Tz(d)."""
-    alpha = math.atan2(-rel[1, 2], rel[2, 2])
-    theta = math.atan2(-rel[0, 1], rel[0, 0])
+    """(a, α, θ, d) of rel = Rx(α) Tx(a) Rz(θ) Tz(d), rounding noise snapped away."""
+    alpha = _snap(math.atan2(-rel[1, 2], rel[2, 2]), math.pi / 2)
+    theta = _snap(math.atan2(-rel[0, 1], rel[0, 0]), math.pi / 2)
     d = -math.sin(alpha) * rel[1, 3] + math.cos(alpha) * rel[2, 3]
-    return float(rel[0, 3]), alpha, theta, d
+    return _snap(float(rel[0, 3])), alpha, theta, _snap(d)
 
 
 def load_urdf(path: str | Path, tip: str | None = None, convention: str = "standard") -> RobotParams:

@@ -29,9 +29,10 @@ from _cli import (  # noqa: E402
     build_parser,
     check_display,
     config_from_args,
+    robot_actions,
     write_screenshot,
 )
-from robot_defs import available_robots  # noqa: E402
+from _cli_robot import robots_table  # noqa: E402
 
 __all__ = ["Config", "build_parser", "config_from_args", "launch", "main"]
 
@@ -49,9 +50,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
         if args.list_robots:
-            print("\n".join(available_robots()))
+            print(robots_table())
             return 0
         config = config_from_args(args)
+        if robot_actions(args, config.robot) and config.screenshot is None:
+            return 0
         if config.screenshot is not None:
             write_screenshot(config)
             print(f"wrote {config.screenshot}")

@@ -112,9 +112,18 @@ def test_missing_osmesa_names_the_package(tmp_path: Path) -> None:
 
 
 def test_list_robots() -> None:
+    """A table: heading, then per shipped robot its name, DOF, joint letters, convention
+    and description."""
     result = run("--list-robots")
     assert result.returncode == 0, result.stderr
-    assert result.stdout.split() == available_robots()
+    lines = result.stdout.splitlines()
+    assert lines[0].split() == ["name", "DOF", "joints", "convention", "description"]
+    assert [line.split()[0] for line in lines[1:]] == available_robots()
+    for line, name in zip(lines[1:], available_robots()):
+        rob = load_robot(name)
+        letters = ["R" if t == 0 else "P" for t in rob.jtype]
+        assert line.split()[1 : 3 + rob.n_dofs] == [str(rob.n_dofs), *letters, rob.convention]
+        assert line.rstrip().endswith(rob.description or rob.name)
 
 
 def test_screenshot_writes_png_of_requested_size(tmp_path: Path) -> None:
