@@ -107,7 +107,7 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
     """Joint motion that puts the tool at ``poses`` (N, 4, 4) at times ``t`` (N,).
 
     Each sample is solved by :func:`kinematics.solve_ik` from the previous sample's
-    solution (the first from ``q0``) without random restarts, so the joint path stays on
+    solution continued by the last joint step (the first from ``q0``) without random restarts, so the joint path stays on
     one branch.  q̇ and q̈ are finite differences of q (second order).  Raises
     :class:`CartesianPathError` at the first sample whose IK fails (out of reach, singular,
     joint limit) or whose joint step exceeds ``qd_max`` [rad/s, m/s] × the time step
@@ -120,7 +120,10 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
     vmax = qd_limits(robot) if qd_max is None else joint_vector("qd_max", qd_max, robot.n_dofs)
     Q = np.empty((t.shape[0], robot.n_dofs))
     for k in range(t.shape[0]):
-        res = solve_ik(robot, P[k], q_prev, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
+        # predictor: continue the last joint step (fewer IK iterations); stays a seed only
+        seed = q_prev if k < 2 else q_prev + (q_prev - Q[k - 2]) * ((t[k] - t[k - 1]) / (t[k - 1] - t[k - 2]))
+        seed = np.clip(seed, robot.q_min, robot.q_max)
+        res = solve_ik(robot, P[k], seed, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
                        tol_pos=FOLLOW_TOL, tol_rot=FOLLOW_TOL)
         reason = None
         if not res.success:

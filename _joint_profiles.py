@@ -145,10 +145,14 @@ def _parabolic(
     return Trajectory(t, q, qd, acc)
 
 
-def _hold(q: FloatArray, times: ArrayLike | None) -> Trajectory:
-    t = np.zeros(1) if times is None else check_times(times)
-    zeros = np.zeros((t.shape[0], q.shape[0]))
-    return Trajectory(t, zeros + q, zeros, zeros)
+def hold(q: ArrayLike, duration: float = 0.0, times: ArrayLike | None = None) -> Trajectory:
+    """The arm at rest at ``q`` for ``duration`` seconds (a single sample when 0)."""
+    a = joint_vector("q", q)
+    if times is None:
+        times = sample_times(check_duration(duration)) if duration else np.zeros(1)
+    t = check_times(times)
+    zeros = np.zeros((t.shape[0], a.shape[0]))
+    return Trajectory(t, zeros + a, zeros, zeros)
 
 
 def trapezoidal(
@@ -179,7 +183,7 @@ def trapezoidal(
     dq = b - a
     dist = np.abs(dq)
     if not dist.any():
-        return _hold(a, times)
+        return hold(a, times=times)
     moving = dist > 0
     vs = float(np.min(vmax[moving] / dist[moving]))  # s' limit
     as_ = float(np.min(amax[moving] / dist[moving]))  # s'' limit

@@ -7,6 +7,7 @@
 * Cartesian: :func:`cartesian_line` (straight line + SLERP, RTB ``ctraj``) and
   :func:`cartesian_arc`, followed by IK sample by sample (:func:`follow_poses`), which
   raises :class:`CartesianPathError` naming the sample, pose and reason where it fails.
+* :func:`hold` keeps the arm at rest for a while (a gripper closing).
 * :func:`scale_to_limits` slows a trajectory uniformly until it respects joint speed,
   acceleration and effort limits.
 
@@ -28,13 +29,13 @@ from _cartesian_path import (
     time_scaling,
     tool_poses,
 )
-from _joint_profiles import check_in_limits, quintic, trapezoidal, via_points
+from _joint_profiles import check_in_limits, hold, quintic, trapezoidal, via_points
 from _traj_value import DEFAULT_RATE, Trajectory, check_times, sample_times
 from robot_defs import RobotParams
 
 __all__ = [
     "DEFAULT_RATE", "SCALINGS", "CartesianPathError", "Trajectory", "cartesian_arc", "cartesian_line",
-    "check_in_limits", "check_times", "follow_poses", "qd_limits", "quintic", "sample_times",
+    "check_in_limits", "check_times", "follow_poses", "hold", "qd_limits", "quintic", "sample_times",
     "scale_to_limits", "time_scaling", "tool_poses", "trapezoidal", "via_points",
 ]
 
