@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_defs import UNITS, _Checker
+from robot_defs import UNITS
 from transforms import HomogeneousTransform, rot_x
 
 FloatArray = NDArray[np.float64]
@@ -105,9 +105,20 @@ class TaskSpec:
         return float(np.abs(y) @ self.object_size)
 
 
-class _TaskChecker(_Checker):
-    def fail(self, where: str, message: str) -> TaskDefinitionError:  # type: ignore[override]
+class _Checker:
+    """Validates the fields of one task file; every error names the file and the field."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def fail(self, where: str, message: str) -> TaskDefinitionError:
         return TaskDefinitionError(f"{self.path}: {where}: {message}")
+
+    def keys(self, table: dict[str, Any], allowed: set[str], where: str) -> None:
+        unknown = sorted(set(table) - allowed)
+        if unknown:
+            raise self.fail(f"{where}.{unknown[0]}" if where else unknown[0],
+                            f"unknown key {unknown[0]!r}; accepted keys: {', '.join(sorted(allowed))}")
 
     def table(self, data: dict[str, Any], key: str, allowed: set[str]) -> dict[str, Any]:
         if key not in data:
@@ -118,16 +129,30 @@ class _TaskChecker(_Checker):
         self.keys(table, allowed, key)
         return table
 
+    def number(self, value: Any, where: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.fail(where, f"expected a number, got {value!r}")
+        if not math.isfinite(float(value)):
+            raise self.fail(where, f"expected a finite number, got {value!r}")
+        return float(value)
+
     def positive(self, value: Any, where: str) -> float:
         number = self.number(value, where)
         if number <= 0.0:
             raise self.fail(where, f"expected a positive number, got {value!r}")
         return number
 
-    def sizes(self, value: Any, length: int, where: str) -> list[float]:
+    def vector(self, value: Any, length: int, where: str, positive: bool = False) -> list[float]:
         if not isinstance(value, list) or len(value) != length:
-            raise self.fail(where, f"expected a list of {length} positive numbers, got {value!r}")
-        return [self.positive(v, f"{where}[{i}]") for i, v in enumerate(value)]
+            kind = "positive numbers" if positive else "numbers"
+            raise self.fail(where, f"expected a list of {length} {kind}, got {value!r}")
+        check = self.positive if positive else self.number
+        return [check(v, f"{where}[{i}]") for i, v in enumerate(value)]
+
+    def pose(self, table: dict[str, Any], where: str, to_rad: float) -> FloatArray:
+        xyz = self.vector(table.get("xyz", [0.0, 0.0, 0.0]), 3, f"{where}.xyz")
+        rpy = self.vector(table.get("rpy", [0.0, 0.0, 0.0]), 3, f"{where}.rpy")
+        return HomogeneousTransform.from_xyz_rpy(xyz, np.array(rpy) * to_rad).mat
 
 
 def load_task(path: str | Path) -> TaskSpec:
@@ -145,7 +170,7 @@ def load_task(path: str | Path) -> TaskSpec:
 
 def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
     """Validate parsed TOML ``data`` from ``path`` (named in errors) into a :class:`TaskSpec`."""
-    check = _TaskChecker(Path(path))
+    check = _Checker(Path(path))
     check.keys(data, TOP_KEYS, "")
     name = data.get("name", Path(path).stem)
     if not isinstance(name, str) or not name.strip():
@@ -160,7 +185,7 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
         if key not in table:
             raise check.fail(f"table.{key}", "missing required field")
     top = check.vector(table["xyz"], 3, "table.xyz")
-    table_size = check.sizes(table["size"], 3, "table.size")
+    table_size = check.vector(table["size"], 3, "table.size", positive=True)
 
     obj = check.table(data, "object", OBJECT_KEYS)
     shape = obj.get("shape")
@@ -170,19 +195,19 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
         if key not in obj:
             raise check.fail(f"object.{key}", "missing required field")
     if shape == "box":
-        size = check.sizes(obj["size"], 3, "object.size")
+        size = check.vector(obj["size"], 3, "object.size", positive=True)
     else:
-        diameter, height = check.sizes(obj["size"], 2, "object.size")
+        diameter, height = check.vector(obj["size"], 2, "object.size", positive=True)
         size = [diameter, diameter, height]
-    object_pose = check.frame({k: obj[k] for k in POSE_KEYS if k in obj}, "object", to_rad).mat
+    object_pose = check.pose(obj, "object", to_rad)
 
     grasp = DEFAULT_GRASP
     if "grasp" in data:
-        grasp = check.frame(data["grasp"], "grasp", to_rad).mat
+        grasp = check.pose(check.table(data, "grasp", POSE_KEYS), "grasp", to_rad)
     place_table = check.table(data, "place", POSE_KEYS)
     if "xyz" not in place_table:
         raise check.fail("place.xyz", "missing required field")
-    place = check.frame(place_table, "place", to_rad).mat
+    place = check.pose(place_table, "place", to_rad)
 
     motion = dict(MOTION_DEFAULTS)
     if "motion" in data:
