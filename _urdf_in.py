@@ -24,8 +24,12 @@ anything is built:
    frames; the joint variable q_i equals the URDF joint value (z_i points along the URDF
    axis).  ``convention="standard"`` then converts exactly (:mod:`dh_convert`).
 
-Limits carry over (continuous joints unlimited; an effort or velocity of 0 counts as
-unknown).  Meshes are not read: the arm is drawn from its DH links.
+Limits carry over (continuous joints unlimited); effort and velocity limits become the
+robot's drives (0 counts as unknown).  Inertials carry over: the links of one rigid body
+(a moving joint's child and every link fixed to it along the chain) are lumped into one
+mass, COM and inertia (parallel-axis theorem) and expressed in that body's DH frame; links
+off the chain and before the first moving joint are left out.  Meshes are not read: the
+arm is drawn from its DH links.
 """
 from __future__ import annotations
 
@@ -41,6 +45,7 @@ import numpy as np
 
 from dh_convert import to_convention
 from fileio import FileReadError, read_regular_file
+from inertials import Drives, LinkInertials, _combine, inertia_from_elements
 from robot_defs import (
     CONVENTION_MODIFIED,
     CONVENTIONS,
@@ -77,7 +82,16 @@ class _Joint:
     axis: np.ndarray  # (3,) unit, in the joint frame
     lower: float
     upper: float
+    effort: float
+    velocity: float
     mimic: bool
+
+
+@dataclass(frozen=True)
+class _Inertial:
+    mass: float  # kg
+    origin: np.ndarray  # (4, 4) link frame → inertial frame (COM at its origin)
+    inertia: np.ndarray  # (3, 3) about the COM, inertial-frame axes
 
 
 class _Reader:
@@ -132,11 +146,28 @@ class _Reader:
             lower, upper = (float(self.floats(limit, key, 1, [0.0], f"{where} limit")[0]) for key in ("lower", "upper"))
             if lower > upper:
                 raise self.fail(f"{where} limit", f"lower {lower} > upper {upper}")
+        effort, velocity = (float(self.floats(limit, key, 1, [0.0], f"{where} limit")[0]) for key in ("effort", "velocity"))
         return _Joint(name, kind, ends["parent"], ends["child"], origin, axis / max(norm, GEOMETRY_TOL),
-                      lower, upper, element.find("mimic") is not None)
+                      lower, upper, abs(effort), abs(velocity), element.find("mimic") is not None)
+
+    def inertial(self, link: ET.Element) -> _Inertial | None:
+        element = link.find("inertial")
+        if element is None:
+            return None
+        where = f"link '{link.get('name')}' inertial"
+        origin_tag = element.find("origin")
+        xyz = self.floats(origin_tag, "xyz", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        rpy = self.floats(origin_tag, "rpy", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        mass = float(self.floats(element.find("mass"), "value", 1, [0.0], f"{where} mass")[0])
+        if mass < 0.0:
+            raise self.fail(f"{where} mass", f"the mass is negative: {mass}")
+        tensor = element.find("inertia")
+        elements = [float(self.floats(tensor, key, 1, [0.0], f"{where} inertia")[0])
+                    for key in ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")]
+        return _Inertial(mass, HomogeneousTransform.from_xyz_rpy(xyz, rpy).mat, inertia_from_elements(*elements))
 
 
-def _parse(text: bytes, path: Path) -> tuple[str, list[str], list[_Joint]]:
+def _parse(text: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None]]:
     reader = _Reader(path)
     if _DECLARATION.search(text):
         raise RobotDefinitionError(f"{path}: DOCTYPE and ENTITY declarations are not accepted in a URDF")
@@ -156,7 +187,8 @@ def _parse(text: bytes, path: Path) -> tuple[str, list[str], list[_Joint]]:
     if not joint_elements:
         raise RobotDefinitionError(f"{path}: no joints: a URDF arm needs <joint> elements")
     joints = [reader.joint(j, seen) for j in joint_elements]
-    return root.get("name", path.stem), names, joints
+    inertials = {link.get("name", ""): reader.inertial(link) for link in root.findall("link")}
+    return root.get("name", path.stem), names, joints, inertials
 
 
 def _chain(path: Path, names: list[str], joints: list[_Joint], tip: str | None) -> list[_Joint]:
@@ -297,11 +329,12 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
     except FileReadError as exc:
         reason = "URDF file not found" if exc.errno == errno.ENOENT else f"cannot read URDF file: {exc.reason}"
         raise RobotDefinitionError(f"{path}: {reason}") from None
-    name, names, joints = _parse(text, path)
+    name, names, joints, link_inertials = _parse(text, path)
     chain = _chain(path, names, joints, tip)
 
     running = np.eye(4)
     points, axes, joint_x, moving = [], [], [], []
+    parts: list[list[tuple[float, np.ndarray, np.ndarray]]] = []  # per body, in the root frame
     for joint in chain:
         running = running @ joint.origin
         if joint.kind in MOVING_TYPES:
@@ -309,6 +342,11 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
             axes.append(running[:3, :3] @ joint.axis)
             joint_x.append(running[:3, 0].copy())
             moving.append(joint)
+            parts.append([])
+        inertial = link_inertials[joint.child]
+        if parts and inertial is not None:
+            pose = running @ inertial.origin
+            parts[-1].append((inertial.mass, pose[:3, 3], pose[:3, :3] @ inertial.inertia @ pose[:3, :3].T))
     tip_pose = running
     frames = _dh_frames(np.array(points), np.array(axes), np.array(joint_x))
     n = len(moving)
@@ -324,9 +362,42 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
         base_tf=HomogeneousTransform(frames[0]),
         endeff_tf=HomogeneousTransform(np.linalg.inv(frames[-1]) @ tip_pose),
         convention=CONVENTION_MODIFIED,
+        inertials=_body_inertials(parts, frames),
+        drives=_drives(moving),
     )
     robot = _with_source(robot, path, chain)
     return to_convention(robot, convention)
+
+
+def _body_inertials(parts: list[list[tuple[float, np.ndarray, np.ndarray]]], frames: np.ndarray) -> LinkInertials | None:
+    """Each body's parts (mass, COM, inertia about it; root frame at q = 0) lumped and
+    expressed in its DH frame; None when the chain has no inertial at all."""
+    if not any(parts):
+        return None
+    n = len(parts)
+    mass, com, inertia = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for i, body in enumerate(parts):
+        R, o = frames[i][:3, :3], frames[i][:3, 3]
+        if not body:
+            continue
+        if sum(m for m, _, _ in body) > 0.0:
+            m, c, tensor = _combine(body)
+        else:  # massless parts may still carry rotor-like inertia: no parallel-axis terms
+            m, c, tensor = 0.0, o, sum(part[2] for part in body)
+        mass[i], com[i] = m, R.T @ (c - o)
+        local = R.T @ tensor @ R
+        inertia[i] = 0.5 * (local + local.T)
+    return LinkInertials.from_arrays(mass, com, inertia)
+
+
+def _drives(moving: list[_Joint]) -> Drives | None:
+    """Effort and velocity limits of the moving joints (0 = unknown = inf); None if all
+    are unknown."""
+    effort = np.array([j.effort or math.inf for j in moving])
+    velocity = np.array([j.velocity or math.inf for j in moving])
+    if not (np.isfinite(effort).any() or np.isfinite(velocity).any()):
+        return None
+    return Drives.from_arrays(len(moving), effort_limit=effort, velocity_limit=velocity)
 
 
 def _check_rows(path: Path, frames: np.ndarray, links: np.ndarray) -> None:

@@ -19,15 +19,19 @@ that is standard frame i has the z axis of joint i+1 (modified z_{i+1}) and sits
 common normal from joint i meets joint i+1, while modified frame i sits on joint i's own
 axis.  Frame 0 agrees except after modified → standard when modified row 1 has a_0 or
 α_0 ≠ 0 (the base absorbs them: new frame 0 = old frame 0 · Rx(α_0)Tx(a_0)).
-``link_com_frac`` (a drawing aid: the fraction between the origins of frames i-1 and i) is
-kept as it is, so drawn centres of mass may move with the frames.
+Link inertials (given in frame i of the robot's convention) move with the frames: the
+COM and the inertia tensor of link i are re-expressed through that constant
+Tx(a_i)Rx(α_i), so dynamics agree too.  ``link_com_frac`` (a drawing aid: the fraction
+between the origins of frames i-1 and i) is kept as it is.
 """
 from __future__ import annotations
 
 import dataclasses
 
 import numpy as np
+from numpy.typing import NDArray
 
+from inertials import LinkInertials
 from robot_defs import CONVENTION_MODIFIED, CONVENTION_STANDARD, RobotParams, _frozen
 from transforms import HomogeneousTransform, dh_transform
 
@@ -37,17 +41,38 @@ def _x_motion(a: float, alpha: float) -> HomogeneousTransform:
     return HomogeneousTransform(dh_transform(0.0, 0.0, a, alpha))
 
 
+def _moved_inertials(
+    inertials: LinkInertials | None, a: NDArray[np.float64], alpha: NDArray[np.float64], inverse: bool
+) -> LinkInertials | None:
+    """Inertials re-expressed from standard frames i to modified frames i (``inverse``
+    False: p_mod = S_i p_std with S_i = Tx(a_i)Rx(α_i) of standard row i) or back."""
+    if inertials is None:
+        return None
+    S = dh_transform(0.0, 0.0, a, alpha)  # (n, 4, 4)
+    R, t = S[:, :3, :3], S[:, :3, 3]
+    if inverse:
+        com = np.einsum("nji,nj->ni", R, inertials.com - t)
+        inertia = np.swapaxes(R, 1, 2) @ inertials.inertia @ R
+    else:
+        com = np.einsum("nij,nj->ni", R, inertials.com) + t
+        inertia = R @ inertials.inertia @ np.swapaxes(R, 1, 2)
+    inertia = 0.5 * (inertia + np.swapaxes(inertia, 1, 2))  # exactly symmetric
+    return LinkInertials.from_arrays(inertials.mass, com, inertia, inertials.estimated)
+
+
 def to_modified(robot: RobotParams) -> RobotParams:
     """The same robot as a modified (Craig) DH table; returned unchanged if it is one.
 
     Modified row i takes a_{i-1}, α_{i-1} from standard row i-1 (row 1 gets 0, 0); the tool
     absorbs the last standard row's Tx(a_n)Rx(α_n).  θ, d, joints, limits and the base are
-    kept.  Modified frame i = standard frame i · (Tx(a_i)Rx(α_i))⁻¹ (on joint i's axis).
+    kept.  Modified frame i = standard frame i · (Tx(a_i)Rx(α_i))⁻¹ (on joint i's axis);
+    inertials are re-expressed in it.
     """
     if robot.is_modified:
         return robot
     return dataclasses.replace(
         robot,
+        inertials=_moved_inertials(robot.inertials, robot.dh_a, robot.dh_alpha, inverse=False),
         dh_a=_frozen(np.concatenate([[0.0], robot.dh_a[:-1]])),
         dh_alpha=_frozen(np.concatenate([[0.0], robot.dh_alpha[:-1]])),
         endeff_tf=_x_motion(robot.dh_a[-1], robot.dh_alpha[-1]) @ robot.endeff_tf,
@@ -61,12 +86,14 @@ def to_standard(robot: RobotParams) -> RobotParams:
     Standard row i takes a_i, α_i from modified row i+1 (the last row gets 0, 0); the base
     absorbs modified row 1's Rx(α_0)Tx(a_0).  θ, d, joints, limits and the tool are kept.
     Standard frame i = modified frame i · Tx(a_i)Rx(α_i) (with the new row i's a_i, α_i):
-    z along joint i+1's axis.
+    z along joint i+1's axis; inertials are re-expressed in it.
     """
     if not robot.is_modified:
         return robot
+    a, alpha = np.concatenate([robot.dh_a[1:], [0.0]]), np.concatenate([robot.dh_alpha[1:], [0.0]])
     return dataclasses.replace(
         robot,
+        inertials=_moved_inertials(robot.inertials, a, alpha, inverse=True),
         dh_a=_frozen(np.concatenate([robot.dh_a[1:], [0.0]])),
         dh_alpha=_frozen(np.concatenate([robot.dh_alpha[1:], [0.0]])),
         base_tf=robot.base_tf @ _x_motion(robot.dh_a[0], robot.dh_alpha[0]),

@@ -77,6 +77,10 @@ def check_same_robot(back, rob) -> None:
         np.testing.assert_allclose(getattr(back, field), getattr(rob, field), rtol=1e-15, atol=1e-15)
     Q = random_q(rob, np.random.default_rng(61), 50)
     np.testing.assert_allclose(forward_kinematics(back, Q), forward_kinematics(rob, Q), atol=1e-12, rtol=0)
+    assert (back.inertials is None) == (rob.inertials is None)
+    if rob.inertials is not None:
+        for field in ("mass", "com", "inertia"):
+            np.testing.assert_allclose(getattr(back.inertials, field), getattr(rob.inertials, field), rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)

@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dh_convert import to_convention, to_modified, to_standard
+from dynamics import gravity_torque, mass_matrix
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, h_rot_x, h_rot_z, h_trans, random_dh_robot, random_q, robot
 from kinematics import forward_kinematics, jacobian
 from robot_defs import JTYPE_REVOLUTE, RobotParams
@@ -146,6 +147,26 @@ def test_conversion_maps_the_columns_and_absorbs_into_base_and_tool():
     np.testing.assert_allclose(std.endeff_tf.mat, mod.endeff_tf.mat, atol=0)
     with pytest.raises(ValueError, match="convention must be 'standard' or 'modified', got 'dh'"):
         to_convention(rob, "dh")
+
+
+@pytest.mark.parametrize("name", [n for n in ROBOT_NAMES if robot(n).inertials is not None])
+def test_conversion_moves_the_inertials_with_the_frames(name):
+    """Link i's COM stays at the same point of the world and its inertia tensor the same
+    world tensor, so the mass matrix and gravity torques agree in both conventions."""
+    rob = robot(name)
+    Q = random_q(rob, np.random.default_rng(42), 20)
+    for conv in CONVENTIONS:
+        other = to_convention(rob, conv)
+        np.testing.assert_array_equal(other.inertials.mass, rob.inertials.mass)
+        fa, fb = forward_kinematics(rob, Q[0], all_frames=True), forward_kinematics(other, Q[0], all_frames=True)
+        for i in range(rob.n_dofs):
+            Ra, Rb = fa[i + 1][:3, :3], fb[i + 1][:3, :3]
+            np.testing.assert_allclose(Ra @ rob.inertials.com[i] + fa[i + 1][:3, 3],
+                                       Rb @ other.inertials.com[i] + fb[i + 1][:3, 3], atol=1e-12)
+            np.testing.assert_allclose(Ra @ rob.inertials.inertia[i] @ Ra.T, Rb @ other.inertials.inertia[i] @ Rb.T,
+                                       atol=1e-12)
+        np.testing.assert_allclose(mass_matrix(other, Q), mass_matrix(rob, Q), atol=1e-12, rtol=1e-12)
+        np.testing.assert_allclose(gravity_torque(other, Q), gravity_torque(rob, Q), atol=1e-11, rtol=1e-12)
 
 
 @pytest.mark.parametrize("name", ROBOT_NAMES)

@@ -4,6 +4,7 @@ equals ours; hand-written URDFs in tests/data import to DH robots with the URDF'
 kinematics; bad URDFs are refused with one clear error; robot → URDF → robot round trips."""
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -12,10 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_dh_robot, random_q, robot
+from dynamics import gravity_torque, mass_matrix
 from kinematics import forward_kinematics
 from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotDefinitionError, load_robot
 from urdf import to_urdf
-from urdf_helpers import chain, moving, parse, urdf_fk
+from urdf_helpers import chain, moving, origin_matrix, parse, urdf_fk, urdf_mass_matrix
 
 DATA = Path(__file__).parent / "data"
 seeds = st.integers(0, 2**32 - 1)
@@ -54,6 +56,27 @@ def test_exported_urdf_of_random_chains(conv, seed, n):
     rng = np.random.default_rng(seed)
     rob = random_dh_robot(rng, n, convention=conv)
     check_export(rob, random_q(rob, rng, 10))
+
+
+@pytest.mark.parametrize("conv", CONVENTIONS)
+@pytest.mark.parametrize("name", ROBOT_NAMES)
+def test_exported_inertials_sit_where_ours_do(name, conv):
+    """Link i's inertial in the URDF, placed by the URDF's own FK, has our mass, our COM in
+    the world and our inertia tensor turned into the world (frame i of either convention)."""
+    rob = robot(name, conv)
+    model = parse(to_urdf(rob))
+    q = random_q(rob, np.random.default_rng(53))
+    frames = forward_kinematics(rob, q, all_frames=True)
+    for i in range(rob.n_dofs):
+        inertial = model.link_map[f"link{i + 1}"].inertial
+        assert inertial.mass == rob.inertials.mass[i]
+        pose = urdf_fk(model, f"link{i + 1}", q[: i + 1]) @ origin_matrix(inertial.origin)
+        R_i = frames[i + 1][:3, :3]
+        np.testing.assert_allclose(pose[:3, 3], R_i @ rob.inertials.com[i] + frames[i + 1][:3, 3], atol=1e-12)
+        t = inertial.inertia
+        I_urdf = np.array([[t.ixx, t.ixy, t.ixz], [t.ixy, t.iyy, t.iyz], [t.ixz, t.iyz, t.izz]])
+        np.testing.assert_allclose(pose[:3, :3] @ I_urdf @ pose[:3, :3].T, R_i @ rob.inertials.inertia[i] @ R_i.T,
+                                   atol=1e-12 * max(1.0, np.abs(rob.inertials.inertia[i]).max()))
 
 
 def test_exported_urdf_has_cylinders_and_the_tool_joint():
@@ -108,6 +131,34 @@ def test_hand_written_urdf_imports_with_its_own_kinematics(filename, conv):
     Q = urdf_q(model, tip_link, np.random.default_rng(51), 60)
     for q, T in zip(Q, forward_kinematics(rob, Q)):
         np.testing.assert_allclose(T, urdf_fk(model, tip_link, q), atol=1e-9, rtol=0)
+
+
+@pytest.mark.parametrize("conv", CONVENTIONS)
+def test_inertials_of_fixed_links_are_lumped_into_the_dh_frames(conv):
+    """fixed_mid.urdf: the adapter's inertial joins the upper arm's, the tcp's the
+    forearm's; the imported mass matrix equals one computed from the URDF alone (COM
+    Jacobians by finite differences of the URDF's FK), and the effort and velocity limits
+    become drives."""
+    path = DATA / "fixed_mid.urdf"
+    rob = load_robot(path, convention=conv)
+    np.testing.assert_allclose(rob.inertials.mass, [4.0, 3.5, 2.3], atol=1e-15)
+    np.testing.assert_array_equal(rob.drives.effort_limit, [1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(rob.drives.velocity_limit, [1.0, 1.0, 1.0])
+    model = parse(path.read_text())
+    for q in random_q(rob, np.random.default_rng(54), 5):
+        np.testing.assert_allclose(mass_matrix(rob, q), urdf_mass_matrix(model, "tcp", q), atol=1e-8)
+
+
+def test_unknown_effort_and_velocity_are_unlimited_drives():
+    rob = load_robot(DATA / "rotated_axes.urdf")
+    np.testing.assert_array_equal(rob.drives.effort_limit, [100, 100, 50, 20, 20, np.inf])
+    np.testing.assert_array_equal(rob.drives.velocity_limit, [2, 2, 3, 4, 4, np.inf])
+    model = parse(to_urdf(rob))  # written back: the known limits, 0 for the unknown ones
+    limits = [j.limit for j in moving(chain(model, "tool0"))]
+    assert [lim.effort for lim in limits[:5]] == [100, 100, 50, 20, 20]
+    assert [lim.velocity for lim in limits[:5]] == [2, 2, 3, 4, 4]
+    assert limits[5] is None  # continuous, nothing known
+    assert load_robot(DATA / "branching.urdf", tip="camera").inertials is None
 
 
 def test_parallel_and_coincident_axes_give_their_dh_values():
@@ -236,6 +287,11 @@ BAD_URDFS = {
         f'<robot name="x">{LINKS}{joint(kind="continuous", extra=chr(60) + "axis xyz=" + chr(34) + "0 0 0" + chr(34) + "/>")}</robot>',
         "joint 'j' axis: the axis has zero length",
     ),
+    "negative mass": (
+        '<robot name="x"><link name="a"/><link name="b"><inertial><mass value="-1"/></inertial></link>'
+        f'{joint()}</robot>',
+        "link 'b' inertial mass: the mass is negative: -1.0",
+    ),
     "duplicate link": ('<robot name="x"><link name="a"/><link name="a"/></robot>', "link 'a': every <link> needs a unique non-empty name"),
 }
 
@@ -278,6 +334,10 @@ def test_shipped_robot_urdf_round_trip(tmp_path, name, conv):
     np.testing.assert_array_equal(back.q_max, rob.q_max)
     Q = random_q(rob, np.random.default_rng(52), 100)
     np.testing.assert_allclose(forward_kinematics(back, Q), forward_kinematics(rob, Q), atol=1e-12, rtol=0)
+    # URDF holds no motor inertia, gearing or friction: compare the link dynamics alone
+    links_only = dataclasses.replace(rob, drives=None)
+    np.testing.assert_allclose(mass_matrix(back, Q[:20]), mass_matrix(links_only, Q[:20]), atol=1e-12, rtol=1e-12)
+    np.testing.assert_allclose(gravity_torque(back, Q[:20]), gravity_torque(links_only, Q[:20]), atol=1e-11, rtol=1e-12)
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)

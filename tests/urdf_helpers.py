@@ -59,3 +59,38 @@ def urdf_fk(model: URDF, tip: str, q: np.ndarray) -> np.ndarray:
         T = T @ motion
         k += 1
     return T
+
+
+def vee(S: np.ndarray) -> np.ndarray:
+    return np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]]) / 2
+
+
+def urdf_mass_matrix(model: URDF, tip: str, q: np.ndarray, h: float = 1e-6) -> np.ndarray:
+    """Joint-space mass matrix Σ m Jvᵀ Jv + Jωᵀ (R I Rᵀ) Jω over the inertials of the links
+    on the chain to ``tip`` after its first moving joint, with each COM's Jacobian taken by
+    central differences of :func:`urdf_fk` (the URDF alone)."""
+    n = len(q)
+    M = np.zeros((n, n))
+    joints = chain(model, tip)
+    for k, joint in enumerate(joints):
+        link = model.link_map[joint.child]
+        if link.inertial is None or not moving(joints[: k + 1]):
+            continue
+        offset = origin_matrix(link.inertial.origin)
+        used = len(moving(joints[: k + 1]))
+
+        def com_pose(qq: np.ndarray) -> np.ndarray:
+            return urdf_fk(model, joint.child, qq[:used]) @ offset
+
+        T = com_pose(q)
+        Jv, Jw = np.zeros((3, n)), np.zeros((3, n))
+        for j in range(n):
+            e = np.eye(n)[j] * h
+            Tp, Tm = com_pose(q + e), com_pose(q - e)
+            Jv[:, j] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+            Jw[:, j] = vee((Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ T[:3, :3].T)
+        i = link.inertial.inertia
+        I = np.array([[i.ixx, i.ixy, i.ixz], [i.ixy, i.iyy, i.iyz], [i.ixz, i.iyz, i.izz]])
+        R = T[:3, :3]
+        M += link.inertial.mass * Jv.T @ Jv + Jw.T @ (R @ I @ R.T) @ Jw
+    return M
