@@ -351,3 +351,46 @@ def test_random_chain_urdf_round_trip(tmp_path_factory, conv, seed, n):
     back = load_robot(path, convention=conv)
     Q = random_q(rob, rng, 20)
     np.testing.assert_allclose(forward_kinematics(back, Q), forward_kinematics(rob, Q), atol=1e-9, rtol=0)
+
+
+# ------------------------------------------------------------------ random URDFs
+
+AXES = np.vstack([np.eye(3), -np.eye(3)])
+
+
+def random_urdf(rng: np.random.Generator, n_links: int) -> str:
+    """A chain of random joints: revolute, continuous, prismatic and fixed; axes either
+    along ±x, ±y, ±z (parallel, coincident and intersecting successive axes happen) or
+    random; origins with zero or random offsets and rpy."""
+    links = "".join(f'<link name="l{i}"/>' for i in range(n_links + 1))
+    joints = []
+    for i in range(n_links):
+        kind = rng.choice(["revolute", "continuous", "prismatic", "fixed"], p=[0.4, 0.2, 0.2, 0.2])
+        xyz = rng.uniform(-0.5, 0.5, 3) * (rng.random(3) < 0.5)
+        rpy = rng.choice([0.0, np.pi / 2, -np.pi / 2, np.pi], 3) if rng.random() < 0.5 else rng.uniform(-np.pi, np.pi, 3)
+        axis = AXES[rng.integers(6)] if rng.random() < 0.7 else rng.normal(size=3)
+        limit = '<limit lower="-1.5" upper="1.5" effort="0" velocity="0"/>' if kind in ("revolute", "prismatic") else ""
+        joints.append(
+            f'<joint name="j{i}" type="{kind}"><parent link="l{i}"/><child link="l{i + 1}"/>'
+            f'<origin xyz="{" ".join(repr(float(v)) for v in xyz)}" rpy="{" ".join(repr(float(v)) for v in rpy)}"/>'
+            f'<axis xyz="{" ".join(repr(float(v)) for v in axis)}"/>{limit}</joint>'
+        )
+    if not any('type="fixed"' not in j for j in joints):  # at least one moving joint
+        joints[0] = joints[0].replace('type="fixed"', 'type="continuous"')
+    return f'<robot name="random">{links}{"".join(joints)}</robot>'
+
+
+@pytest.mark.parametrize("conv", CONVENTIONS)
+@settings(max_examples=40, deadline=None)
+@given(seed=seeds, n_links=st.integers(1, 9))
+def test_random_urdfs_import_with_their_own_kinematics(tmp_path_factory, conv, seed, n_links):
+    rng = np.random.default_rng(seed)
+    text = random_urdf(rng, n_links)
+    path = tmp_path_factory.mktemp("rnd") / "arm.urdf"
+    path.write_text(text)
+    rob = load_robot(path, convention=conv)
+    model = parse(text)
+    tip = f"l{n_links}"
+    assert rob.n_dofs == len(moving(chain(model, tip)))
+    for q in urdf_q(model, tip, rng, 10):
+        np.testing.assert_allclose(forward_kinematics(rob, q), urdf_fk(model, tip, q), atol=1e-9, rtol=0)
