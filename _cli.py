@@ -20,11 +20,14 @@ import graphics_defs as gd
 import graphics_objects as go
 from _cli_robot import dh_table_text, export
 from robot_defs import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
+import recording
+from pick_demo import plan_for
+from pick_task import TaskPlan
 from viewer_state import ViewerSession, compute_workspace, display_range, display_scale
 
 PROG = "robot-sim"
 DEFAULT_ROBOT = "anthropomorphic"
-DEMOS = ("circle",)
+DEMOS = ("circle", "pick")
 
 
 class CliError(Exception):
@@ -49,6 +52,11 @@ class Config:
     wireframe: bool
     workspace: int
     demo: str | None
+    pick_plan: TaskPlan | None = None  # --demo pick: planned before any window opens
+    time: float = 0.0  # --time: pick demo time shown first [s]
+    record: Path | None = None  # --record DIR
+    duration: float = gd.RECORD_DEFAULT_DURATION_S  # --duration [s]
+    fps: float = gd.RECORD_DEFAULT_FPS  # --fps
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,7 +83,19 @@ def build_parser() -> argparse.ArgumentParser:
                         help="list the shipped robots (name, DOF, joints, convention, description) and exit")
     parser.add_argument("--workspace", type=_positive_int, default=0, metavar="N",
                         help="compute and show an N-point workspace cloud")
-    parser.add_argument("--demo", choices=DEMOS, help="start a demo: circle = endeffector circle by differential IK")
+    parser.add_argument("--demo", choices=DEMOS,
+                        help="start a demo: circle = endeffector circle by differential IK, "
+                             "pick = pick-and-place task (play, pause, scrub; plots)")
+    parser.add_argument("--task", metavar="FILE.toml",
+                        help="with --demo pick: the task file (default: a task fitted to the robot)")
+    parser.add_argument("--time", metavar="T",
+                        help="with --demo pick: show the task at T seconds (past the end: the final scene)")
+    parser.add_argument("--record", metavar="DIR",
+                        help=f"render the scene offscreen to DIR/{gd.RECORD_FRAME_FORMAT.format(index=0)}, ... and exit")
+    parser.add_argument("--duration", metavar="T",
+                        help="with --record: seconds to record (default: the rest of the pick task, "
+                             f"else {gd.RECORD_DEFAULT_DURATION_S:g})")
+    parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {gd.RECORD_DEFAULT_FPS:g})")
     return parser
 
 
@@ -174,6 +194,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         robot = load_robot(args.robot, tip=args.tip, convention=args.convention)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
+    pick_plan, time = pick_arguments(args, robot)
+    record, duration, fps = record_arguments(args, pick_plan, time)
     return Config(
         robot_arg=args.robot,
         robot=robot,
@@ -184,7 +206,62 @@ def config_from_args(args: argparse.Namespace) -> Config:
         wireframe=args.wireframe,
         workspace=args.workspace,
         demo=args.demo,
+        pick_plan=pick_plan,
+        time=time,
+        record=record,
+        duration=duration,
+        fps=fps,
     )
+
+
+def _number(option: str, text: str, what: str, positive: bool) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value < 0.0 or (positive and value == 0.0):
+        raise CliError(f"{option}: expected {what}, got '{text}'")
+    return value
+
+
+def pick_arguments(args: argparse.Namespace, robot: RobotParams) -> tuple[TaskPlan | None, float]:
+    """--task and --time of the pick demo: the plan (made here, so an impossible task is
+    one line before anything opens or moves) and the start time [s]."""
+    for option in ("task", "time"):
+        if getattr(args, option) is not None and args.demo != "pick":
+            raise CliError(f"--{option}: needs --demo pick")
+    if args.demo != "pick":
+        return None, 0.0
+    time = 0.0 if args.time is None else _number("--time", args.time, "a finite time in seconds >= 0", False)
+    try:
+        return plan_for(robot, args.task), time
+    except ValueError as exc:  # TaskDefinitionError, TaskError
+        raise CliError(str(exc)) from None
+
+
+def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: float) -> tuple[Path | None, float, float]:
+    """--record DIR (created if missing; its parent must exist), --duration and --fps."""
+    fps = gd.RECORD_DEFAULT_FPS
+    if args.fps is not None:
+        fps = _number("--fps", args.fps, f"a positive number of frames per second up to {gd.RECORD_MAX_FPS:g}", True)
+        if fps > gd.RECORD_MAX_FPS:
+            raise CliError(f"--fps: expected a positive number of frames per second up to {gd.RECORD_MAX_FPS:g}, got '{args.fps}'")
+    duration = gd.RECORD_DEFAULT_DURATION_S if plan is None else max(plan.duration - time, 0.0)
+    if args.duration is not None:
+        duration = _number("--duration", args.duration, "a finite number of seconds >= 0", False)
+    if args.record is None:
+        for option in ("duration", "fps"):
+            if getattr(args, option) is not None:
+                raise CliError(f"--{option}: needs --record DIR")
+        return None, duration, fps
+    out = Path(args.record).expanduser().absolute()
+    try:
+        out.mkdir(exist_ok=True)
+    except OSError as exc:
+        raise CliError(f"--record: cannot write frames to '{out}': {exc.strerror}") from None
+    if not out.is_dir() or not os.access(out, os.W_OK):
+        raise CliError(f"--record: cannot write frames to '{out}': not a writable directory")
+    return out, duration, fps
 
 
 def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
@@ -213,7 +290,22 @@ def session_from_config(config: Config) -> ViewerSession:
         session.options.show_only_frames(config.frames)
     if config.wireframe:
         session.options.toggle_wireframe()
+    if config.pick_plan is not None:
+        session.start_pick(config.pick_plan, config.time)
     return session
+
+
+def write_recording(config: Config) -> list[Path]:
+    """``--record``: the session rendered offscreen to a numbered PNG sequence (no Qt)."""
+    session = session_from_config(config)
+    if config.demo == "circle":
+        session.toggle_demo()
+    try:
+        return recording.record(session, config.record, config.duration, config.fps, config.size)
+    except RuntimeError as exc:
+        raise CliError(f"offscreen rendering failed: {exc}") from None
+    except OSError as exc:
+        raise CliError(f"--record: cannot write frames to '{config.record}': {exc.strerror or exc}") from None
 
 
 def write_screenshot(config: Config) -> None:

@@ -5,12 +5,12 @@ from __future__ import annotations
 import os
 import struct
 import zlib
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import graphics_defs as gd
+from fileio import write_atomic
 from _gfx_camera import Camera
 from _gfx_gl import GL, context_key, require_osmesa_platform
 from _gfx_render import render_scene
@@ -101,6 +101,6 @@ def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
     png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
     png += chunk(b"IEND", b"")
     try:
-        Path(path).write_bytes(png)
+        write_atomic(path, png)
     except OSError as exc:
         raise OSError(exc.errno, f"cannot write PNG to {os.fspath(path)}: {exc.strerror}", os.fspath(path)) from exc

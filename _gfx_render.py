@@ -14,6 +14,7 @@ from _gfx_robot import part_corners, robot_look, robot_parts, robot_reach
 from _gfx_gl import GL, context_key, gl_matrix
 from _gfx_resources import resources
 from _gfx_scene import GraphicsOptions, Scene
+from _gfx_task import TaskGraphics, task_points
 from kinematics import Kinematics
 
 # The robot drawables of the Kinematics objects being shown (a viewer keeps one for the
@@ -80,6 +81,8 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     cloud_drawn = cloud is not None and cloud.draw_from_picture(camera, width, height)
     if cloud is not None and not cloud_drawn:
         cloud.draw()
+    if scene.task is not None:
+        TaskGraphics(scene.task).draw()
     robot = robot_item(kin)
     robot.alpha, robot.wireframe, robot.show_com = float(options.alpha), options.wireframe, options.show_com
     if robot.gl_preset == "opaque":
@@ -105,7 +108,7 @@ def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64
     """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
     and ``options``: the corners of the robot's parts at its current pose, the point
     of the floor under its base, the tips of the drawn frames' axes, the IK target with
-    its axes, the vectors and the workspace cloud when shown.  For framing (``fit``)."""
+    its axes, the vectors, the workspace cloud when shown and the pick task's table and path.  For framing (``fit``)."""
     kin = scene.kinematics
     look = robot_look(kin.robot)
     parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if options.show_com else None)
@@ -119,4 +122,6 @@ def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64
         points += [np.asarray(origin, dtype=float) + np.asarray(vec, dtype=float) for origin, vec, _ in scene.vectors]
     if options.show_workspace and scene.workspace is not None:
         points.append(np.asarray(scene.workspace.points, dtype=float))
+    if scene.task is not None:
+        points.append(task_points(scene.task))
     return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])

@@ -14,6 +14,7 @@ from transforms import HomogeneousTransform
 
 if TYPE_CHECKING:
     from _gfx_cloud import WorkspaceCloud
+    from _gfx_task import TaskScene
 
 RGBA = tuple[float, float, float, float]
 Vector = tuple[ArrayLike, ArrayLike, RGBA]  # (origin (3,), vector (3,), rgba) in the world
@@ -101,7 +102,9 @@ class Scene:
     drawn translucent in ``GHOST_COLOR``, or None.  ``target_tf``: the IK target, drawn as
     a small frame and marker sphere, yellow, or magenta when ``target_reachable`` is
     False.  ``vectors``: arrows (origin (3,), vector (3,), rgba), 1 m per unit.
-    ``workspace``: a point cloud or None.
+    ``workspace``: a point cloud or None.  ``task``: the pick task's table, object,
+    gripper and planned path (the endeffector sphere is then left out: the gripper is
+    the endeffector), or None.
     """
 
     kinematics: Kinematics
@@ -110,4 +113,5 @@ class Scene:
     target_reachable: bool = True
     vectors: list[Vector] = field(default_factory=list)
     workspace: WorkspaceCloud | None = None
+    task: TaskScene | None = None
 

@@ -161,6 +161,7 @@ KEY_BINDINGS = (
     ("E", "", "toggle_workspace", None, "workspace point cloud on / off"),
     ("V", "", "toggle_vectors", None, "endeffector velocity arrows on / off"),
     ("C", "", "toggle_demo", None, "circle demo (differential IK) on / off"),
+    ("Space", "", "toggle_pick", None, "pick demo: start, play / pause"),
     ("G", "", "toggle_target", None, "IK target frame and ghost on / off"),
     ("I", "", "move_target", (0, 1), "move IK target +x / -x"),  # (world axis, sign)
     ("K", "", "move_target", (0, -1), "move IK target +x / -x"),
@@ -269,3 +270,40 @@ DH_VARIABLE_CELL_RGB = (230, 230, 230)  # background of the read-only joint-vari
 DH_RELOAD_DELAY_MS = 200                # wait after a change on disk before reloading
 DH_ERROR_STYLE = "color: #b00000"
 DH_ROW_PADDING_PX = 6                   # table row height = font height + this
+
+# Pick task (--demo pick): table, object, two-finger gripper, planned endeffector path
+TABLE_COLOR = (0.50, 0.35, 0.20, 1.0)     # wood brown
+OBJECT_COLOR = (0.95, 0.45, 0.05, 1.0)    # orange block
+GRIPPER_COLOR = (0.20, 0.22, 0.28, 1.0)   # dark steel
+PATH_COLOR = (0.95, 0.85, 0.10, 1.0)      # yellow line
+PATH_LINE_WIDTH_PX = 2.0
+PATH_SAMPLE_STEP = 10                      # draw every 10th sample of the 1 kHz plan
+GRIPPER_FINGER_THICKNESS_M = 0.008         # across the grip (tool y)
+GRIPPER_FINGER_WIDTH_M = 0.02              # along tool x
+GRIPPER_FINGER_TIP_PAST_M = 0.01           # fingertips this far past the tool point
+GRIPPER_PALM_THICKNESS_M = 0.012
+PICK_SPEEDS = (0.25, 0.5, 1.0, 2.0, 4.0)  # playback speed choices (1 = real time)
+PICK_SPEED_FORMAT = "{speed:g}x"
+PICK_SLIDER_TICKS_PER_S = 1000             # timeline resolution 1 ms
+PICK_PLAY_TEXT = "Play"
+PICK_PAUSE_TEXT = "Pause"
+PICK_LABEL_FORMAT = "t = {t:6.3f} / {duration:.3f} s  {phase}"
+PICK_LABEL_MIN_WIDTH = 220
+PICK_DOCK_TITLE_PX = 24                    # room for the playback dock's title bar
+
+# Plot dock (pyqtgraph): one row per quantity, one curve per joint
+PLOT_ROWS = (("q", "position", "rad | m"), ("qd", "velocity", "rad/s | m/s"),
+             ("qdd", "acceleration", "rad/s² | m/s²"))
+PLOT_JOINT_COLORS = ("#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf")
+PLOT_BACKGROUND = "w"
+PLOT_CURSOR_COLOR = "k"
+PLOT_GRID_ALPHA = 0.3
+PLOT_TITLE_SIZE = "9pt"
+PLOT_DOCK_MIN_HEIGHT = 240
+PLOT_DOCK_HEIGHT_FRACTION = 0.35           # of the window's height when the plots open
+
+# --record: offscreen frames written to DIR
+RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
+RECORD_DEFAULT_FPS = 25.0
+RECORD_DEFAULT_DURATION_S = 5.0           # without the pick demo (whose length is the default)
+RECORD_MAX_FPS = 1000.0

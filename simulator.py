@@ -30,6 +30,7 @@ from _cli import (  # noqa: E402
     check_display,
     config_from_args,
     robot_actions,
+    write_recording,
     write_screenshot,
 )
 from _cli_robot import robots_table  # noqa: E402
@@ -54,6 +55,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         config = config_from_args(args)
         if robot_actions(args, config.robot) and config.screenshot is None:
+            return 0
+        if config.record is not None:
+            frames = write_recording(config)
+            print(f"wrote {len(frames)} frames to {config.record}")
             return 0
         if config.screenshot is not None:
             write_screenshot(config)

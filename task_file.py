@@ -52,6 +52,9 @@ TABLE_KEYS = {"xyz", "size"}
 OBJECT_KEYS = {"shape", "size", "xyz", "rpy"}
 POSE_KEYS = {"xyz", "rpy"}
 MOTION_DEFAULTS = {"approach": 0.10, "lift": 0.15, "speed": 0.15, "dwell": 0.5}
+#: Length of the simulated two-finger gripper's fingers [m]: its palm sits this far
+#: behind the tool point (the grasp pose is the point between the fingertips).
+GRIPPER_FINGER_LENGTH = 0.06
 #: Default grasp: tool at the object's centre, its z axis pointing down (object −z).
 DEFAULT_GRASP = np.block([[rot_x(math.pi), np.zeros((3, 1))], [np.zeros((1, 3)), np.ones((1, 1))]])
 

@@ -17,7 +17,7 @@ no OpenGL.  Bad input raises ValueError naming the argument, where and what is a
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from _cartesian_path import (
     SCALINGS,
@@ -50,52 +50,66 @@ def scale_to_limits(
 ) -> Trajectory:
     """``traj`` slowed uniformly (t → λt, q̇ → q̇/λ, q̈ → q̈/λ², λ >= 1, the smallest that
     works) so that |q̇| <= ``qd_max``, |q̈| <= ``qdd_max`` and, with ``effort``, the joint
-    torques of :func:`dynamics.inverse_dynamics` stay within the robot's effort limits.
+    torques of :func:`dynamics.inverse_dynamics` (friction included) stay within the
+    robot's drive effort limits.
 
-    Limits (n,) or scalars; None means the robot's (``qd_limits`` for speed, drive limits
-    for effort) or no limit.  The torque τ(λ) = g + (τ − g)/λ² (gravity does not scale), so
-    λ follows in closed form per sample; a pose whose gravity torque alone exceeds a limit
-    raises ValueError naming the sample and the joint.  The path and the samples are the
-    same; only their times change.
+    Limits (n,) or scalars; ``qd_max`` None means the robot's (:func:`qd_limits`) when a
+    robot is given, else no limit.  Speed and acceleration give λ in closed form; effort
+    is searched (doubling, then bisection to 1e-6 relative) because friction does not
+    scale with 1/λ².  Poses whose torque stays above a limit however slow the motion
+    (gravity, Coulomb friction) raise ValueError naming the sample and the joint.  The path
+    and the samples stay; only their times change.
     """
     n = traj.n_dofs
-    lam2 = 1.0
+    lam = 1.0
     if qd_max is None and robot is not None:
         qd_max = qd_limits(robot)
     if qd_max is not None:
         vmax = np.broadcast_to(np.asarray(qd_max, dtype=float), (n,))
-        lam2 = max(lam2, float(np.max(np.abs(traj.qd) / vmax)) ** 2)
+        lam = max(lam, float(np.max(np.abs(traj.qd) / vmax)))
     if qdd_max is not None:
         amax = np.broadcast_to(np.asarray(qdd_max, dtype=float), (n,))
-        lam2 = max(lam2, float(np.max(np.abs(traj.qdd) / amax)))
+        lam = max(lam, float(np.sqrt(np.max(np.abs(traj.qdd) / amax))))
     if effort:
-        lam2 = max(lam2, _effort_scale(traj, robot))
-    lam = float(np.sqrt(lam2))
+        lam = _effort_scale(traj, robot, lam)
+    return _retimed(traj, lam)
+
+
+def _retimed(traj: Trajectory, lam: float) -> Trajectory:
     t = traj.t[0] + (traj.t - traj.t[0]) * lam
     marks = tuple((traj.t[0] + (tm - traj.t[0]) * lam, m) for tm, m in traj.marks)
-    return Trajectory(t, traj.q, traj.qd / lam, traj.qdd / lam2, traj.poses, marks)
+    return Trajectory(t, traj.q, traj.qd / lam, traj.qdd / lam**2, traj.poses, marks)
 
 
-def _effort_scale(traj: Trajectory, robot: RobotParams | None) -> float:
-    """Smallest λ² that keeps inverse-dynamics torques within the effort limits."""
+#: Slowest uniform time scaling the effort search tries before giving up.
+MAX_EFFORT_SCALE = 1e3
+
+
+def _effort_scale(traj: Trajectory, robot: RobotParams | None, lam: float) -> float:
+    """Smallest λ >= ``lam`` whose inverse-dynamics torques stay within the effort limits."""
     if robot is None:
         raise ValueError("effort=True needs the robot (its dynamics and effort limits)")
-    import dynamics  # only needed here; absent until the dynamics module exists
+    import dynamics  # imported only when effort limits are asked for
 
     drives = getattr(robot, "drives", None)
     limit = np.full(traj.n_dofs, np.inf) if drives is None else np.asarray(drives.effort_limit, dtype=float)
-    zeros = np.zeros_like(traj.q)
-    tau = dynamics.inverse_dynamics(robot, traj.q, traj.qd, traj.qdd)
-    g = dynamics.inverse_dynamics(robot, traj.q, zeros, zeros)
-    over = np.abs(g) > limit
-    if over.any():
-        k, j = (int(v) for v in np.argwhere(over)[0])
-        raise ValueError(
-            f"sample {k} (t = {traj.t[k]:.4f} s): gravity alone needs {g[k, j]:.4g} N·m at joint {j + 1}, "
-            f"above its effort limit {limit[j]:.4g}; no time scaling can fix that"
-        )
-    r = tau - g
-    with np.errstate(divide="ignore", invalid="ignore"):
-        need = np.where(r > 0, r / (limit - g), np.where(r < 0, -r / (limit + g), 0.0))
-    need = np.where(np.isfinite(limit), need, 0.0)
-    return float(np.max(need, initial=1.0))
+
+    def excess(scale: float) -> NDArray[np.float64]:
+        return np.abs(dynamics.inverse_dynamics(robot, traj.q, traj.qd / scale, traj.qdd / scale**2)) / limit
+
+    if np.max(excess(lam)) <= 1.0:
+        return lam
+    hi = lam
+    while np.max(excess(hi)) > 1.0:
+        if hi >= MAX_EFFORT_SCALE:
+            k, j = (int(v) for v in np.unravel_index(np.argmax(excess(hi)), traj.q.shape))
+            raise ValueError(
+                f"sample {k} (t = {traj.t[k]:.4f} s): joint {j + 1} needs more than its effort limit "
+                f"{limit[j]:.4g} even {MAX_EFFORT_SCALE:g} times slower (gravity or friction alone)"
+            )
+        hi *= 2.0
+    lo = hi / 2.0 if hi > lam else lam
+    while hi - lo > 1e-6 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if np.max(excess(mid)) <= 1.0 else (mid, hi)
+    return hi

@@ -27,6 +27,8 @@ from kinematics import (
     solve_ik,
     workspace_points,
 )
+from pick_demo import PickDemo
+from pick_task import TaskPlan
 from robot_defs import JTYPE_PRISMATIC, RobotParams
 from robot_state import RobotState
 from transforms import HomogeneousTransform, rpy_from_rot
@@ -102,6 +104,7 @@ class ViewerSession:
     ik_result: IKResult | None = None
     workspace: Any = None
     demo: DemoCircle | None = None
+    pick: PickDemo | None = None
 
     def __post_init__(self) -> None:
         self.state = RobotState(self.robot)
@@ -141,6 +144,8 @@ class ViewerSession:
         A shown IK target snaps to the new endeffector pose.
         """
         self.demo = None
+        if self.pick is not None:
+            self.pick.playing = False
         self.state.set_q(q)
         self.state.set_q_des(q)
         self.state.set_qd(np.zeros(self.robot.n_dofs))
@@ -157,7 +162,7 @@ class ViewerSession:
 
     def moving(self) -> bool:
         """True while the current q has not reached the desired q, or the demo runs."""
-        if self.demo is not None:
+        if self.demo is not None or (self.pick is not None and self.pick.playing):
             return True
         return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > gd.ANIM_ARRIVED_TOL))
 
@@ -239,10 +244,32 @@ class ViewerSession:
 
     def step(self, dt: float) -> None:
         """Advance whatever moves (demo or animation toward the ghost) by ``dt`` s."""
-        if self.demo is not None:
+        if self.pick is not None:
+            self.pick.step(dt)
+            self.show_pick_at(self.pick.time)
+        elif self.demo is not None:
             self.step_demo(dt)
         else:
             self.step_animation(dt)
+
+    # ---- pick demo (planned task, scrubbed or played) ----
+    def start_pick(self, plan: TaskPlan, time: float = 0.0) -> None:
+        """Show the pick task ``plan`` at ``time`` s (past the end: the final scene),
+        playing unless at the end; stops the circle demo and hides the IK target."""
+        self.demo, self.target_tf, self.ik_result = None, None, None
+        self.pick = PickDemo(plan)
+        self.show_pick_at(time)
+        self.pick.playing = self.pick.time < self.pick.duration
+        self.fit_camera()
+
+    def show_pick_at(self, t: float) -> None:
+        """Put the arm (current and desired state) where the pick plan has it at ``t`` s."""
+        self.pick.seek(t)
+        q, qd, _ = self.pick.plan.trajectory.evaluate(self.pick.plan.trajectory.t[0] + self.pick.time)
+        self.state.set_q(q)
+        self.state.set_q_des(q)
+        self.state.set_qd(qd)
+        self.update_kinematics()
 
     # ---- drawing ----
     def velocity_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
@@ -268,6 +295,7 @@ class ViewerSession:
             target_reachable=self.target_reachable,
             vectors=self.velocity_vectors() if self.options.show_vectors else [],
             workspace=self.workspace,
+            task=None if self.pick is None else self.pick.task_scene(),
         )
 
     def status_text(self, fps_text: str) -> str:

@@ -24,6 +24,8 @@ from PyQt5.QtCore import Qt
 import graphics_defs as gd
 import graphics_objects as go
 from _cli import PROG, Config, session_from_config
+from _window_pick import PickPanel, PlotDock
+from pick_demo import plan_for
 from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, available_robots, load_robot
 from viewer_state import ViewerSession, compute_workspace, display_range, display_scale, wrap_display
 
@@ -182,6 +184,8 @@ class MainWindow(QtWidgets.QMainWindow):
         super().__init__()
         self.config = config
         self.session = session_from_config(config)
+        self.pick_panel: PickPanel | None = None
+        self.plot_dock: PlotDock | None = None
         self.sliders: list[tuple[QtWidgets.QSlider, QtWidgets.QLabel]] = []
         self.workspace_token = 0
         self.workspace_busy = False
@@ -205,6 +209,8 @@ class MainWindow(QtWidgets.QMainWindow):
         if config.demo == "circle":
             self.session.toggle_demo()
             self.start_motion()
+        if self.session.pick is not None:
+            self.show_pick()
 
     # ---- dock ----
     def build_dock(self) -> None:
@@ -285,6 +291,7 @@ class MainWindow(QtWidgets.QMainWindow):
         for i, shown in enumerate(options.show_frames + [options.show_endeff_frame]):
             self.frames_list.item(i).setCheckState(Qt.Checked if shown else Qt.Unchecked)
         self.frames_list.blockSignals(False)
+        self.sync_pick()
         self.view.update()
 
     def refresh_status(self) -> None:
@@ -309,6 +316,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.workspace_token += 1
         self.workspace_busy = False
         self.robot_changed()
+        if self.pick_panel is not None:
+            self.start_pick()
         self.view.setFocus()
 
     def slider_moved(self, joint: int, ticks: int) -> None:
@@ -356,6 +365,7 @@ class MainWindow(QtWidgets.QMainWindow):
             "toggle_workspace": self.act_toggle_workspace,
             "toggle_vectors": self.act_toggle_vectors,
             "toggle_demo": self.act_toggle_demo,
+            "toggle_pick": self.act_toggle_pick,
             "toggle_target": self.act_toggle_target,
             "move_target": self.act_move_target,
             "rotate_target": self.act_rotate_target,
@@ -455,6 +465,60 @@ class MainWindow(QtWidgets.QMainWindow):
             # once the last paints are older than the fps window the status says idle
             QtCore.QTimer.singleShot(round(gd.FPS_WINDOW_S * 1000) + 50, self.refresh_status)
         self.sync_widgets()
+
+    # ---- pick demo: playback dock and plots ----
+    def show_pick(self) -> None:
+        """The pick demo's docks (made on first use) showing the session's plan."""
+        if self.pick_panel is None:
+            self.pick_panel = PickPanel(self, self.act_toggle_pick, self.seek_pick, self.set_pick_speed)
+            self.plot_dock = PlotDock(self)
+            self.addDockWidget(Qt.BottomDockWidgetArea, self.plot_dock)
+            self.addDockWidget(Qt.BottomDockWidgetArea, self.pick_panel)
+            self.splitDockWidget(self.plot_dock, self.pick_panel, Qt.Vertical)
+            self.resizeDocks([self.plot_dock], [round(self.height() * gd.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
+        self.plot_dock.show_trajectory(self.session.pick.plan.trajectory)
+        self.sync_pick()
+        self.start_motion()
+
+    def sync_pick(self) -> None:
+        """Timeline, label and plot cursors at the demo's time."""
+        demo = self.session.pick
+        if self.pick_panel is None or demo is None:
+            return
+        self.pick_panel.sync(demo.time, demo.duration, demo.playing, demo.state().phase)
+        self.plot_dock.set_time(demo.time)
+
+    def start_pick(self) -> None:
+        """Plan the robot's default pick task and show it (a one-line message if it cannot)."""
+        try:
+            plan = plan_for(self.session.robot)
+        except ValueError as exc:  # TaskError, TaskDefinitionError
+            self.message(str(exc))
+            return
+        self.session.start_pick(plan)
+        self.show_pick()
+
+    def act_toggle_pick(self, _: None = None) -> None:
+        """Start the pick demo, or play / pause it."""
+        if self.session.pick is None:
+            self.start_pick()
+        else:
+            self.session.pick.toggle()
+            self.start_motion()
+        self.sync_widgets()
+
+    def seek_pick(self, t: float) -> None:
+        """Timeline slider: pause and show the task at ``t`` s."""
+        try:
+            self.session.pick.playing = False
+            self.session.show_pick_at(t)
+        except Exception as exc:  # noqa: BLE001 - an exception escaping a Qt handler aborts PyQt
+            self.message(f"seek failed: {exc}")
+        self.sync_widgets()
+
+    def set_pick_speed(self, speed: float) -> None:
+        if self.session.pick is not None:
+            self.session.pick.speed = speed
 
     # ---- screenshot and workspace ----
     def act_save_screenshot(self, _: None = None) -> None:

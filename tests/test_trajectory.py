@@ -249,3 +249,25 @@ def test_scale_to_limits_slows_uniformly_to_the_limit():
     np.testing.assert_array_equal(slow.q, tr.q)
     # the scaled motion is the same quintic over the longer duration
     np.testing.assert_allclose(slow.q, quintic(Q0, Q1, slow.duration, times=slow.t).q, atol=1e-12)
+
+
+def test_scale_to_limits_meets_effort_limits_exactly_with_friction():
+    import dataclasses
+
+    import dynamics
+
+    arm = robot("puma560")
+    tr = quintic(arm.q_home, arm.q_home + [0.8, -0.6, 0.9, 0.5, -0.7, 1.0], 0.6)
+    fast = np.abs(dynamics.inverse_dynamics(arm, tr.q, tr.qd, tr.qdd)).max(axis=0)
+    crawl = np.abs(dynamics.inverse_dynamics(arm, tr.q, tr.qd / 1e3, tr.qdd / 1e6)).max(axis=0)
+    limit = crawl + 0.3 * (fast - crawl) + 0.5
+    limited = dataclasses.replace(arm, drives=dataclasses.replace(arm.drives, effort_limit=limit))
+    assert (fast > limit).any()
+    slow = scale_to_limits(tr, qd_max=np.inf, robot=limited, effort=True)
+    ratio = np.abs(dynamics.inverse_dynamics(limited, slow.q, slow.qd, slow.qdd)) / limit
+    assert ratio.max() <= 1.0 and ratio.max() > 1.0 - 1e-5  # the tightest joint at its limit
+    np.testing.assert_array_equal(slow.q, tr.q)
+    # gravity and friction alone above a limit: no time scaling helps, and it says where
+    hopeless = dataclasses.replace(arm, drives=dataclasses.replace(arm.drives, effort_limit=0.5 * crawl + 1e-9))
+    with pytest.raises(ValueError, match=r"^sample \d+ \(t = .* s\): joint \d needs more than its effort limit"):
+        scale_to_limits(tr, robot=hopeless, effort=True)

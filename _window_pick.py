@@ -1,0 +1,97 @@
+"""Window parts of the pick demo: the playback dock (play/pause, a timeline slider to
+scrub, speed) and the plot dock (pyqtgraph: joint position, velocity and acceleration
+against time, with a cursor at the shown time).  Imported by window.py only."""
+from __future__ import annotations
+
+from typing import Callable
+
+import pyqtgraph as pg
+from PyQt5 import QtWidgets
+from PyQt5.QtCore import Qt
+
+import graphics_defs as gd
+from trajectory import Trajectory
+
+
+class PlotDock(QtWidgets.QDockWidget):
+    """One plot per row of ``PLOT_ROWS`` (q, qd, qdd), one curve per joint, x = time [s],
+    and a vertical cursor line at the current time in each."""
+
+    def __init__(self, parent: QtWidgets.QWidget) -> None:
+        super().__init__("Joint plots", parent)
+        self.setObjectName("plot_dock")
+        self.graphics = pg.GraphicsLayoutWidget()
+        self.graphics.setBackground(gd.PLOT_BACKGROUND)
+        self.plots: dict[str, pg.PlotItem] = {}
+        self.cursors: dict[str, pg.InfiniteLine] = {}
+        for row, (key, title, unit) in enumerate(gd.PLOT_ROWS):
+            plot = self.graphics.addPlot(row=row, col=0)
+            plot.setLabel("left", title, units=None)
+            plot.setTitle(f"{title} [{unit}]", size=gd.PLOT_TITLE_SIZE)
+            plot.showGrid(x=True, y=True, alpha=gd.PLOT_GRID_ALPHA)
+            if row:
+                plot.setXLink(self.plots[gd.PLOT_ROWS[0][0]])
+            cursor = pg.InfiniteLine(angle=90, pen=pg.mkPen(gd.PLOT_CURSOR_COLOR))
+            plot.addItem(cursor)
+            self.plots[key], self.cursors[key] = plot, cursor
+        self.plots[gd.PLOT_ROWS[-1][0]].setLabel("bottom", "time", units="s")
+        self.curves: dict[str, list[pg.PlotDataItem]] = {key: [] for key in self.plots}
+        self.setWidget(self.graphics)
+        self.setMinimumHeight(gd.PLOT_DOCK_MIN_HEIGHT)
+
+    def show_trajectory(self, traj: Trajectory) -> None:
+        """Plot q, q̇, q̈ of ``traj`` against its time, one colour per joint."""
+        for key, plot in self.plots.items():
+            for curve in self.curves[key]:
+                plot.removeItem(curve)
+            data = getattr(traj, key)
+            self.curves[key] = [
+                plot.plot(traj.t, data[:, j], pen=pg.mkPen(gd.PLOT_JOINT_COLORS[j % len(gd.PLOT_JOINT_COLORS)]),
+                          name=f"joint {j + 1}")
+                for j in range(traj.n_dofs)
+            ]
+
+    def set_time(self, t: float) -> None:
+        """Move the cursors to time ``t`` [s]."""
+        for cursor in self.cursors.values():
+            cursor.setValue(t)
+
+
+class PickPanel(QtWidgets.QDockWidget):
+    """Play/pause button, timeline slider (ms ticks), speed chooser and a time/phase label.
+    The callbacks get the window's actions: ``toggle()``, ``seek(t)``, ``set_speed(s)``."""
+
+    def __init__(self, parent: QtWidgets.QWidget, toggle: Callable[[], None],
+                 seek: Callable[[float], None], set_speed: Callable[[float], None]) -> None:
+        super().__init__("Pick demo", parent)
+        self.setObjectName("pick_dock")
+        panel = QtWidgets.QWidget()
+        layout = QtWidgets.QHBoxLayout(panel)
+        self.play = QtWidgets.QPushButton(gd.PICK_PLAY_TEXT)
+        self.play.clicked.connect(lambda: toggle())
+        self.slider = QtWidgets.QSlider(Qt.Horizontal)
+        self.slider.valueChanged.connect(lambda ticks: seek(ticks / gd.PICK_SLIDER_TICKS_PER_S))
+        self.speed = QtWidgets.QComboBox()
+        self.speed.addItems([gd.PICK_SPEED_FORMAT.format(speed=s) for s in gd.PICK_SPEEDS])
+        self.speed.setCurrentIndex(gd.PICK_SPEEDS.index(1.0))
+        self.speed.currentIndexChanged.connect(lambda i: set_speed(gd.PICK_SPEEDS[i]))
+        self.label = QtWidgets.QLabel()
+        self.label.setMinimumWidth(gd.PICK_LABEL_MIN_WIDTH)
+        for widget in (self.play, self.slider, self.speed):
+            widget.setFocusPolicy(Qt.NoFocus)  # keys stay with the GL view
+        layout.addWidget(self.play)
+        layout.addWidget(self.slider, 1)
+        layout.addWidget(self.speed)
+        layout.addWidget(self.label)
+        self.setWidget(panel)
+        self.setMaximumHeight(panel.sizeHint().height() + gd.PICK_DOCK_TITLE_PX)
+
+    def sync(self, time: float, duration: float, playing: bool, phase: str) -> None:
+        """Show the demo's time, length, play state and phase without emitting signals."""
+        self.slider.blockSignals(True)
+        self.slider.setRange(0, round(duration * gd.PICK_SLIDER_TICKS_PER_S))
+        self.slider.setValue(round(time * gd.PICK_SLIDER_TICKS_PER_S))
+        self.slider.blockSignals(False)
+        self.play.setText(gd.PICK_PAUSE_TEXT if playing else gd.PICK_PLAY_TEXT)
+        self.label.setText(gd.PICK_LABEL_FORMAT.format(t=time, duration=duration, phase=phase))
+

@@ -1,0 +1,64 @@
+"""The pick demo in the real window (xvfb): the plot dock shows the trajectory, the
+timeline slider scrubs the scene, play advances time."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import graphics_defs as gd
+from test_window import app, open_window  # noqa: F401 - the QApplication fixture
+
+from PyQt5.QtTest import QTest  # noqa: E402
+
+pytestmark = pytest.mark.window
+
+
+@pytest.fixture
+def pick_window(app):  # noqa: F811
+    win = open_window(app, "--robot", "ur5", "--demo", "pick")
+    yield win
+    win.close()
+    win.deleteLater()
+
+
+def test_plot_dock_shows_the_trajectory(pick_window):
+    win = pick_window
+    traj = win.session.pick.plan.trajectory
+    dock = win.plot_dock
+    assert dock.isVisible()
+    for key, _, _ in gd.PLOT_ROWS:
+        curves = dock.curves[key]
+        assert len(curves) == traj.n_dofs
+        for j, curve in enumerate(curves):
+            np.testing.assert_array_equal(curve.xData, traj.t)
+            np.testing.assert_array_equal(curve.yData, getattr(traj, key)[:, j])
+    # the plot widget really painted curves: its picture is not blank background
+    image = dock.graphics.grab().toImage()
+    assert image.width() > 100 and image.height() > 100
+
+
+def test_slider_scrubs_the_scene_and_moves_the_cursor(pick_window):
+    win = pick_window
+    demo = win.session.pick
+    win.timer.stop()
+    demo.playing = False
+    t = demo.plan.phase_times()["transport"] + 0.3
+    win.pick_panel.slider.setValue(round(t * gd.PICK_SLIDER_TICKS_PER_S))
+    assert demo.time == pytest.approx(t, abs=1e-3)
+    np.testing.assert_allclose(win.session.state.q(), demo.plan.state_at(demo.time).q, atol=1e-12)
+    assert win.plot_dock.cursors["q"].value() == pytest.approx(demo.time)
+    assert "transport" in win.pick_panel.label.text()
+
+
+def test_play_advances_time(pick_window):
+    win = pick_window
+    demo = win.session.pick
+    assert demo.playing
+    start = demo.time
+    QTest.qWait(300)
+    assert demo.time > start
+    win.pick_panel.play.click()  # pause
+    assert not demo.playing
+    paused = demo.time
+    QTest.qWait(200)
+    assert demo.time == paused
