@@ -272,7 +272,7 @@ def resolve_robot_path(name_or_path: str | Path) -> Path:
     missing file.
     """
     text = str(name_or_path)
-    if text.endswith((".toml", ".urdf")) or "/" in text or "\\" in text:
+    if text.lower().endswith((".toml", ".urdf")) or "/" in text or "\\" in text:
         return Path(text)  # checked when read, so every reason is reported as it is
     if text not in available_robots():
         raise RobotDefinitionError(

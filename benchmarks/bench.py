@@ -36,7 +36,7 @@ from kinematics import (  # noqa: E402
     solve_ik,
     workspace_points,
 )
-from dh_convert import to_modified  # noqa: E402
+from dh_convert import to_modified, to_standard  # noqa: E402
 from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
 from robot_state import RobotState  # noqa: E402
 
@@ -218,7 +218,7 @@ def bench_jacobian(table: Table, robot: RobotParams, rng: np.random.Generator) -
 def bench_conventions(table: Table, robot: RobotParams, rng: np.random.Generator) -> None:
     """The same arm as a modified (Craig) table against its standard table, same run: the
     baseline column holds the standard median, the ratio is standard / modified."""
-    modified = to_modified(robot)
+    modified, robot = to_modified(robot), to_standard(robot)
     n = 10**5
     Q = random_configurations(robot, n, rng)
     for what, fn in (("batched FK", forward_kinematics), ("batched Jacobian", jacobian)):
@@ -309,7 +309,9 @@ def main() -> None:
     bench_fk(table, robot, rng)
     bench_update(table, robot, rng)
     bench_jacobian(table, robot, rng)
-    bench_conventions(table, robot, rng)
+    for name in (ROBOT, "panda"):  # a standard table and, once shipped, Franka's modified one
+        if name in available_robots():
+            bench_conventions(table, load_robot(name), rng)
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
     if not args.skip_render:
