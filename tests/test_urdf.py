@@ -394,3 +394,9 @@ def test_random_urdfs_import_with_their_own_kinematics(tmp_path_factory, conv, s
     assert rob.n_dofs == len(moving(chain(model, tip)))
     for q in urdf_q(model, tip, rng, 10):
         np.testing.assert_allclose(forward_kinematics(rob, q), urdf_fk(model, tip, q), atol=1e-9, rtol=0)
+
+
+def test_a_bare_file_name_in_any_case_is_a_path(tmp_path, monkeypatch):
+    (tmp_path / "ARM.URDF").write_bytes((DATA / "prismatic.urdf").read_bytes())
+    monkeypatch.chdir(tmp_path)
+    assert load_robot("ARM.URDF").n_dofs == 4
