@@ -14,7 +14,9 @@ from kinematics import Kinematics, forward_kinematics
 from robot_defs import RobotDefinitionError, RobotParams, load_robot
 from robot_state import RobotState
 
-PUBLISHED = {"puma560", "stanford", "ur5"}
+# robots whose files carry published inertial data (the library's are checked in
+# test_robot_library.py); every other file ships estimate_inertials' output
+PUBLISHED = {"puma560", "stanford", "ur5", "panda", "ur3", "ur3e", "ur5e", "ur10", "ur10e"}
 JOINT = """
 [[joints]]
 type = "revolute"
