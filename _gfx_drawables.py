@@ -163,6 +163,7 @@ class RobotGraphics(Drawable):
         self.alpha = 1.0
         self.reference: RobotGraphics | None = None
         self.show_com = False
+        self.endeff_marker = True  # False while the pick task draws a gripper at the tool
         self.look = robot_look(kinematics.robot)
 
     @property
@@ -173,6 +174,8 @@ class RobotGraphics(Drawable):
         """The parts of the current pose (a ghost: those that differ from the reference)."""
         kin = self.kinematics
         parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if self.show_com else None)
+        if not self.endeff_marker:
+            parts = [part for part in parts if part.color != gd.ENDEFF_COLOR]
         if self.ghost and self.reference is not None:
             parts = differing(parts, self.reference.parts())
         return parts

@@ -85,6 +85,7 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
         TaskGraphics(scene.task).draw()
     robot = robot_item(kin)
     robot.alpha, robot.wireframe, robot.show_com = float(options.alpha), options.wireframe, options.show_com
+    robot.endeff_marker = scene.task is None  # the gripper is the endeffector
     if robot.gl_preset == "opaque":
         robot.draw()
     base_xy = kin.frames[0, :2, 3]

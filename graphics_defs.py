@@ -273,7 +273,7 @@ DH_ROW_PADDING_PX = 6                   # table row height = font height + this
 
 # Pick task (--demo pick): table, object, two-finger gripper, planned endeffector path
 TABLE_COLOR = (0.50, 0.35, 0.20, 1.0)     # wood brown
-OBJECT_COLOR = (0.95, 0.45, 0.05, 1.0)    # orange block
+OBJECT_COLOR = (0.60, 0.20, 0.75, 1.0)    # purple block (orange is the velocity arrow)
 GRIPPER_COLOR = (0.20, 0.22, 0.28, 1.0)   # dark steel
 PATH_COLOR = (0.95, 0.85, 0.10, 1.0)      # yellow line
 PATH_LINE_WIDTH_PX = 2.0
