@@ -47,7 +47,7 @@ Vec = tuple  # three Scalars
 
 GRAVITY = (0.0, 0.0, -9.81)
 #: Configurations per chunk of the batched kernels (work arrays stay in cache).
-CHUNK = 4096
+CHUNK = 2048
 _SNAP = 1e-12  # cos/sin of constant angles closer than this to 0 or ±1 are made exact
 
 
@@ -508,15 +508,21 @@ def _tool_wrench_in_last_frame(robot: RobotParams, Q: FloatArray, f_tool: ArrayL
     return out
 
 
-def _drive_torque(model: _DynModel, QD: FloatArray | None, QDD: FloatArray | None) -> FloatArray | float:
-    """G²·Jm·q̈ + G²·B·q̇ + |G|·Tc± (by the sign of q̇, 0 at rest), (N, n)."""
-    out: FloatArray | float = 0.0
-    if QDD is not None and np.any(model.reflected):
-        out = QDD * model.reflected
-    if QD is not None and model.has_friction:
-        coulomb = np.where(QD > 0.0, model.coulomb_pos, np.where(QD < 0.0, model.coulomb_neg, 0.0))
-        out = out + QD * model.viscous + coulomb
+def _drive_torque(model: _DynModel, QDT: FloatArray | None, QDDT: FloatArray | None) -> FloatArray | None:
+    """G²·Jm·q̈ + G²·B·q̇ + |G|·Tc± (by the sign of q̇, 0 at rest), (n, N); None if nothing."""
+    out = None
+    if QDDT is not None and np.any(model.reflected):
+        out = QDDT * model.reflected[:, None]
+    if QDT is not None and model.has_friction:
+        coulomb = np.where(QDT > 0.0, model.coulomb_pos[:, None], np.where(QDT < 0.0, model.coulomb_neg[:, None], 0.0))
+        friction = QDT * model.viscous[:, None] + coulomb
+        out = friction if out is None else out + friction
     return out
+
+
+def _rows(X: FloatArray | None) -> FloatArray | None:
+    """(N, n) → (n, N) contiguous: each joint's values of all configurations in one row."""
+    return None if X is None else np.ascontiguousarray(X.T)
 
 
 def _rnea(
@@ -527,20 +533,22 @@ def _rnea(
     gravity: ArrayLike,
     f_tool: ArrayLike | None,
 ) -> FloatArray:
-    """τ (N, n) by RNEA, drive terms included; Q etc. (N, n)."""
+    """τ (n, N) by RNEA, drive terms included, for Q etc. of shape (N, n) (None: zero)."""
     model = _model(robot)
     g0 = _gravity_in_frame0(robot, gravity)
-    wrench = None if f_tool is None else _tool_wrench_in_last_frame(robot, Q, f_tool)
-    tau = np.empty(Q.shape)
-    for s in range(0, Q.shape[0], CHUNK):
+    wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
+    QT, QDT, QDDT = _rows(Q), _rows(QD), _rows(QDD)
+    tau = np.empty(QT.shape)
+    for s in range(0, QT.shape[1], CHUNK):
         sl = slice(s, s + CHUNK)
-        rows = [None if X is None else np.ascontiguousarray(X[sl].T) for X in (Q, QD, QDD)]
-        ext = None
-        if wrench is not None:
-            wt = np.ascontiguousarray(wrench[sl].T)
-            ext = ((wt[0], wt[1], wt[2]), (wt[3], wt[4], wt[5]))
-        tau[sl] = _rnea_chunk(model, rows[0], rows[1], rows[2], g0, ext).T
-    return tau + _drive_torque(model, QD, QDD)
+        ext = None if wrench is None else (tuple(wrench[:3, sl]), tuple(wrench[3:, sl]))
+        tau[:, sl] = _rnea_chunk(
+            model, QT[:, sl], None if QDT is None else QDT[:, sl], None if QDDT is None else QDDT[:, sl], g0, ext
+        )
+    drive = _drive_torque(model, QDT, QDDT)
+    if drive is not None:
+        tau += drive
+    return tau
 
 
 def _arguments(robot: RobotParams, q: ArrayLike, **rates: ArrayLike) -> tuple[bool, list[FloatArray]]:
@@ -572,14 +580,14 @@ def inverse_dynamics(
     NaN/inf, or a robot without inertial data.
     """
     single, (Q, QD, QDD) = _arguments(robot, q, qd=qd, qdd=qdd)
-    tau = _rnea(robot, Q, QD, QDD, gravity, f_tool)
+    tau = _rnea(robot, Q, QD, QDD, gravity, f_tool).T
     return tau[0] if single else tau
 
 
 def gravity_torque(robot: RobotParams, q: ArrayLike, gravity: ArrayLike = GRAVITY) -> FloatArray:
     """g(q): joint torques [N·m or N] that hold the arm still against gravity, (n,) or (N, n)."""
     single, (Q,) = _arguments(robot, q)
-    tau = _rnea(robot, Q, None, None, gravity, None)
+    tau = _rnea(robot, Q, None, None, gravity, None).T
     return tau[0] if single else tau
 
 
@@ -588,7 +596,7 @@ def bias_torque(
 ) -> FloatArray:
     """C(q, q̇) q̇ + g(q) + τ_f(q̇) (− Jᵀ f_tool when given): inverse dynamics at q̈ = 0."""
     single, (Q, QD) = _arguments(robot, q, qd=qd)
-    tau = _rnea(robot, Q, QD, None, gravity, f_tool)
+    tau = _rnea(robot, Q, QD, None, gravity, f_tool).T
     return tau[0] if single else tau
 
 
@@ -597,11 +605,12 @@ def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
     definite, reflected motor inertia G²·Jm on the diagonal (composite rigid bodies)."""
     single, (Q,) = _arguments(robot, q)
     model = _model(robot)
-    n = robot.n_dofs
-    out = np.empty((Q.shape[0], n, n))
-    for s in range(0, Q.shape[0], CHUNK):
-        out[s : s + CHUNK] = _crba_chunk(model, np.ascontiguousarray(Q[s : s + CHUNK].T)).transpose(2, 0, 1)
-    return out[0] if single else out
+    QT = _rows(Q)
+    out = np.empty((robot.n_dofs, robot.n_dofs, QT.shape[1]))
+    for s in range(0, QT.shape[1], CHUNK):
+        out[:, :, s : s + CHUNK] = _crba_chunk(model, QT[:, s : s + CHUNK])
+    out = out.transpose(2, 0, 1)
+    return out[0].copy() if single else out
 
 
 def forward_dynamics(
@@ -616,12 +625,13 @@ def forward_dynamics(
     batched Cholesky solve of the composite-rigid-body M (see the README for why)."""
     single, (Q, QD, TAU) = _arguments(robot, q, qd=qd, tau=tau)
     model = _model(robot)
-    rhs = TAU - _rnea(robot, Q, QD, None, gravity, f_tool)
-    out = np.empty(Q.shape)
-    for s in range(0, Q.shape[0], CHUNK):
-        QT = np.ascontiguousarray(Q[s : s + CHUNK].T)
-        out[s : s + CHUNK] = _solve_spd(_crba_chunk(model, QT), np.ascontiguousarray(rhs[s : s + CHUNK].T)).T
-    return out[0] if single else out
+    rhs = _rows(TAU) - _rnea(robot, Q, QD, None, gravity, f_tool)
+    QT = _rows(Q)
+    out = np.empty(QT.shape)
+    for s in range(0, QT.shape[1], CHUNK):
+        sl = slice(s, s + CHUNK)
+        out[:, sl] = _solve_spd(_crba_chunk(model, QT[:, sl]), rhs[:, sl])
+    return out[:, 0] if single else out.T
 
 
 def _link_jacobians(robot: RobotParams, Q: FloatArray, QD: FloatArray) -> dict[str, FloatArray]:

@@ -36,6 +36,7 @@ from kinematics import (  # noqa: E402
     solve_ik,
     workspace_points,
 )
+from bench_dynamics import bench_dynamics  # noqa: E402
 from dh_convert import to_modified, to_standard  # noqa: E402
 from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
 from robot_state import RobotState  # noqa: E402
@@ -312,6 +313,7 @@ def main() -> None:
     for name in (ROBOT, "panda"):  # a standard table and, once shipped, Franka's modified one
         if name in available_robots():
             bench_conventions(table, load_robot(name), rng)
+    bench_dynamics(table, robot, rng, measure, median_iqr, us)
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
     if not args.skip_render:
