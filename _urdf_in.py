@@ -3,8 +3,10 @@
 Steps, each refusing bad input with one :class:`~robot_defs.RobotDefinitionError` before
 anything is built:
 
-1. **Parse** with the standard library's ElementTree, refusing any ``<!DOCTYPE``/``<!ENTITY``
-   (so no entity expansion can happen), malformed XML and a root that is not ``<robot>``.
+1. **Parse** UTF-8 text with the standard library's ElementTree, refusing any
+   ``<!DOCTYPE``/``<!ENTITY`` (so no entity expansion can happen; the bytes are decoded
+   first, so a declared encoding cannot hide one), malformed XML and a root that is not
+   ``<robot>``.
 2. **Tree**: every joint's parent and child must be declared links, no link may have two
    parents, the tree must have one root and no loop.  The chain runs from the root to
    ``tip`` (a link name) or, without ``tip``, to the only leaf; several leaves need ``tip``.
@@ -33,6 +35,7 @@ arm is drawn from its DH links.
 """
 from __future__ import annotations
 
+import codecs
 import dataclasses
 import errno
 import math
@@ -69,7 +72,7 @@ GEOMETRY_TOL = 1e-9
 SNAP_TOL = 1e-12
 #: The DH table must reproduce the URDF's joint frames to this (m, or rad).
 CONSTRUCTION_TOL = 1e-9
-_DECLARATION = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.IGNORECASE)
+_DECLARATION = re.compile(r"<!\s*(DOCTYPE|ENTITY)", re.IGNORECASE)
 
 
 @dataclass(frozen=True)
@@ -167,8 +170,14 @@ class _Reader:
         return _Inertial(mass, HomogeneousTransform.from_xyz_rpy(xyz, rpy).mat, inertia_from_elements(*elements))
 
 
-def _parse(text: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None]]:
+def _parse(raw: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None]]:
     reader = _Reader(path)
+    try:  # decoded here, so no declared encoding can hide a DOCTYPE from the check below
+        text = raw.removeprefix(codecs.BOM_UTF8).decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RobotDefinitionError(
+            f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); save the URDF as UTF-8"
+        ) from None
     if _DECLARATION.search(text):
         raise RobotDefinitionError(f"{path}: DOCTYPE and ENTITY declarations are not accepted in a URDF")
     try:

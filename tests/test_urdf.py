@@ -313,6 +313,17 @@ def test_missing_and_unreadable_urdf(tmp_path):
         load_robot(tmp_path / "dir.urdf")
 
 
+def test_entities_cannot_hide_behind_another_encoding(tmp_path):
+    path = tmp_path / "arm.urdf"
+    text = '<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE r [<!ENTITY e "aa">]><robot name="x">&e;</robot>'
+    path.write_bytes(text.encode("utf-16"))
+    with pytest.raises(RobotDefinitionError) as info:
+        load_robot(path)
+    assert str(info.value) == f"{path}: not UTF-8 text (byte 0xff at offset 0); save the URDF as UTF-8"
+    path.write_bytes(b"\xef\xbb\xbf" + (DATA / "prismatic.urdf").read_bytes())  # a UTF-8 byte-order mark is fine
+    assert load_robot(path).n_dofs == 4
+
+
 def test_unknown_tip_is_named(tmp_path):
     with pytest.raises(RobotDefinitionError, match="tip link 'zz' is not declared; links: base, upper"):
         load_robot(DATA / "branching.urdf", tip="zz")
