@@ -38,7 +38,7 @@ from typing import Union
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from kinematics import forward_kinematics
+from kinematics import cos_sin_half, forward_kinematics
 from robot_defs import JTYPE_REVOLUTE, RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -222,6 +222,7 @@ class _DynModel:
         self.coulomb_pos = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 0]
         self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
         self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
+        self.kernels: dict = {}  # compiled straight-line kernels, see _compile
 
     # -- geometry of joint j at joint values (arrays of one chunk) ----------------------
     def offset(self, j: int, qj: Scalar) -> Vec:
@@ -268,8 +269,7 @@ class _DynModel:
         cos: list[Scalar] = list(self.ct)
         sin: list[Scalar] = list(self.st)
         if len(self.rev_index):
-            angles = QT[self.rev_index] + self.th[self.rev_index, None]
-            c_all, s_all = np.cos(angles), np.sin(angles)
+            c_all, s_all = cos_sin_half(QT[self.rev_index], 0.5 * self.th[self.rev_index, None])
             for k, j in enumerate(self.rev_index):
                 cos[j], sin[j] = c_all[k], s_all[k]
         return cos, sin
@@ -304,48 +304,50 @@ def _w_matrix(w: Vec, wd: Vec) -> tuple:
     )
 
 
-def _rnea_chunk(
+def _rnea_terms(
     model: _DynModel,
-    QT: FloatArray,
-    QDT: FloatArray | None,
-    QDDT: FloatArray | None,
-    g0: FloatArray,
+    cos: list[Scalar],
+    sin: list[Scalar],
+    q: list[Scalar],
+    qd: list[Scalar] | None,
+    qdd: list[Scalar] | None,
+    g0: tuple[float, float, float],
     f_ext: tuple[Vec, Vec] | None,
-) -> FloatArray:
-    """Joint torques (n, M) of the rigid bodies (no drive terms) for a chunk given as
-    (n, M) rows; None for zero rates.  ``g0`` gravity in frame 0; ``f_ext`` the external
-    wrench on the last link (force, moment about its origin) in its frame."""
-    n, M = model.n, QT.shape[1]
-    cos, sin = model.cos_sin(QT)
+) -> list[Scalar]:
+    """Joint torques of the rigid bodies (no drive terms), one entry per joint.  Per joint:
+    cos θ, sin θ and, for prismatic joints, q; rates None when zero.  ``g0`` gravity in
+    frame 0; ``f_ext`` the external wrench on the last link (force, moment about its
+    origin) in its frame."""
+    n = model.n
     w: Vec = (0.0, 0.0, 0.0)
     wd: Vec = (0.0, 0.0, 0.0)
-    vd: Vec = (-float(g0[0]), -float(g0[1]), -float(g0[2]))
+    vd: Vec = (-g0[0], -g0[1], -g0[2])
     W_par = None
     offsets, forces, moments = [], [], []
     for j in range(n):
         c, s, rev = cos[j], sin[j], model.revolute[j]
-        qd: Scalar = 0.0 if QDT is None else QDT[j]
-        qdd: Scalar = 0.0 if QDDT is None else QDDT[j]
-        p = model.offset(j, 0.0 if rev else QT[j])
+        qdj: Scalar = 0.0 if qd is None else qd[j]
+        qddj: Scalar = 0.0 if qdd is None else qdd[j]
+        p = model.offset(j, 0.0 if rev else q[j])
         offsets.append(p)
         if model.modified:
             if W_par is not None:
                 vd = _vadd(vd, _matvec(W_par, p))
             w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
             if rev:
-                wd = (_add(wd[0], _mul(w[1], qd)), _sub(wd[1], _mul(w[0], qd)), _add(wd[2], qdd))
-                w = (w[0], w[1], _add(w[2], qd))
+                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
+                w = (w[0], w[1], _add(w[2], qdj))
             else:
-                two_qd = _mul(2.0, qd)
-                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qdd))
+                two_qd = _mul(2.0, qdj)
+                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
             W = _w_matrix(w, wd)
         else:
             if rev:
-                wd = (_add(wd[0], _mul(w[1], qd)), _sub(wd[1], _mul(w[0], qd)), _add(wd[2], qdd))
-                w = (w[0], w[1], _add(w[2], qd))
+                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
+                w = (w[0], w[1], _add(w[2], qdj))
             else:
-                two_qd = _mul(2.0, qd)
-                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qdd))
+                two_qd = _mul(2.0, qdj)
+                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
             w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
             W = _w_matrix(w, wd)
             vd = _vadd(vd, _matvec(W, p))
@@ -356,15 +358,14 @@ def _rnea_chunk(
     if f_ext is not None:
         forces[-1] = _vsub(forces[-1], f_ext[0])
         moments[-1] = _vsub(moments[-1], f_ext[1])
-    tau = np.empty((n, M))
+    tau: list[Scalar] = [0.0] * n
     for j in range(n - 1, -1, -1):
         f, nm, p = forces[j], moments[j], offsets[j]
         if model.modified:
-            t = nm[2] if model.revolute[j] else f[2]
+            tau[j] = nm[2] if model.revolute[j] else f[2]
         else:
             axis = (0.0, model.sa[j], model.ca[j])
-            t = _dot(axis, _vadd(nm, _cross(p, f))) if model.revolute[j] else _dot(axis, f)
-        tau[j] = t
+            tau[j] = _dot(axis, _vadd(nm, _cross(p, f))) if model.revolute[j] else _dot(axis, f)
         if j > 0:
             F, N = model.wrench_to_parent(j, f, nm, cos[j], sin[j], p)
             forces[j - 1] = _vadd(forces[j - 1], F)
@@ -372,12 +373,11 @@ def _rnea_chunk(
     return tau
 
 
-def _crba_chunk(model: _DynModel, QT: FloatArray) -> FloatArray:
-    """Mass matrix (n, n, M) of the rigid bodies plus reflected motor inertia."""
-    n, M = model.n, QT.shape[1]
-    cos, sin = model.cos_sin(QT)
-    offsets = [model.offset(j, 0.0 if model.revolute[j] else QT[j]) for j in range(n)]
-    out = np.empty((n, n, M))
+def _crba_terms(model: _DynModel, cos: list[Scalar], sin: list[Scalar], q: list[Scalar]) -> list[Scalar]:
+    """Mass matrix of the rigid bodies plus reflected motor inertia, row-major n·n entries."""
+    n = model.n
+    offsets = [model.offset(j, 0.0 if model.revolute[j] else q[j]) for j in range(n)]
+    out: list[Scalar] = [0.0] * (n * n)
     # composite inertia of the subtree of j about frame j's origin, in frame j: m, h, I
     cm: Scalar = 0.0
     ch: Vec = (0.0, 0.0, 0.0)
@@ -389,14 +389,97 @@ def _crba_chunk(model: _DynModel, QT: FloatArray) -> FloatArray:
         v, w = model.subspace(j)
         f = _vsub(_scale(cm, v), _cross(ch, w))
         nm = _vadd(_sym_matvec(ci, w), _cross(ch, v))
-        out[j, j] = _add(_add(_dot(v, f), _dot(w, nm)), float(model.reflected[j]))
+        out[j * n + j] = _add(_add(_dot(v, f), _dot(w, nm)), float(model.reflected[j]))
         for k in range(j, 0, -1):  # carry the force of joint j's unit acceleration to the base
             f, nm = model.wrench_to_parent(k, f, nm, cos[k], sin[k], offsets[k])
             vk, wk = model.subspace(k - 1)
-            out[k - 1, j] = out[j, k - 1] = _add(_dot(vk, f), _dot(wk, nm))
+            out[(k - 1) * n + j] = out[j * n + k - 1] = _add(_dot(vk, f), _dot(wk, nm))
         if j > 0:
             cm, ch, ci = _composite_to_parent(model, j, cm, ch, ci, cos[j], sin[j], offsets[j])
     return out
+
+
+# ------------------------------------------------------------------ compiled kernels
+# The functions above are run once per robot (and variant) on symbols instead of arrays;
+# the operations they perform on non-constant values are recorded as straight-line Python
+# source and compiled.  The compiled kernel does exactly those NumPy operations on arrays
+# (a batch) or the same float operations on Python floats (one configuration), without
+# the bookkeeping of the readable code above (its cost is per call, not per configuration).
+
+
+class _Sym:
+    """A named non-constant value while tracing; arithmetic records a line of source."""
+
+    __slots__ = ("name", "lines")
+
+    def __init__(self, name: str, lines: list[str]) -> None:
+        self.name, self.lines = name, lines
+
+    def _emit(self, expr: str) -> "_Sym":
+        name = f"v{len(self.lines)}"
+        self.lines.append(f"{name} = {expr}")
+        return _Sym(name, self.lines)
+
+    @staticmethod
+    def _term(x: object) -> str:
+        return x.name if isinstance(x, _Sym) else repr(float(x))
+
+    def __add__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} + {self._term(other)}")
+
+    def __radd__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} + {self.name}")
+
+    def __sub__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} - {self._term(other)}")
+
+    def __rsub__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} - {self.name}")
+
+    def __mul__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} * {self._term(other)}")
+
+    def __rmul__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} * {self.name}")
+
+    def __neg__(self) -> "_Sym":
+        return self._emit(f"-{self.name}")
+
+
+def _compile(model: _DynModel, kind: str, g0: tuple[float, float, float], rates: tuple[bool, bool], ext: bool):
+    """kernel(c, s, q, qd, qdd, e) -> tuple of outputs, for ``kind`` "rnea" or "crba"."""
+    lines: list[str] = []
+    n = model.n
+    cos = [_Sym(f"c{j}", lines) if model.revolute[j] else model.ct[j] for j in range(n)]
+    sin = [_Sym(f"s{j}", lines) if model.revolute[j] else model.st[j] for j in range(n)]
+    q = [0.0 if model.revolute[j] else _Sym(f"q{j}", lines) for j in range(n)]
+    head = [f"c{j} = c[{j}]; s{j} = s[{j}]" if model.revolute[j] else f"q{j} = q[{j}]" for j in range(n)]
+    if kind == "crba":
+        outputs = _crba_terms(model, cos, sin, q)
+    else:
+        qd = [_Sym(f"qd{j}", lines) for j in range(n)] if rates[0] else None
+        qdd = [_Sym(f"qdd{j}", lines) for j in range(n)] if rates[1] else None
+        head += [f"qd{j} = qd[{j}]" for j in range(n)] if rates[0] else []
+        head += [f"qdd{j} = qdd[{j}]" for j in range(n)] if rates[1] else []
+        wrench = None
+        if ext:
+            e = [_Sym(f"e{k}", lines) for k in range(6)]
+            head += [f"e{k} = e[{k}]" for k in range(6)]
+            wrench = (tuple(e[:3]), tuple(e[3:]))
+        outputs = _rnea_terms(model, cos, sin, q, qd, qdd, g0, wrench)
+    body = head + lines + ["return (" + ", ".join(_Sym._term(o) for o in outputs) + ",)"]
+    source = "def kernel(c, s, q, qd, qdd, e):\n" + "".join(f"    {line}\n" for line in body)
+    namespace: dict = {}
+    exec(compile(source, f"<dynamics kernel {kind}>", "exec"), namespace)  # our own generated source
+    return namespace["kernel"]
+
+
+def _kernel(model: _DynModel, kind: str, g0: tuple = (0.0, 0.0, 0.0), rates: tuple = (False, False), ext: bool = False):
+    key = (kind, g0, rates, ext)
+    kernel = model.kernels.get(key)
+    if kernel is None:
+        kernel = model.kernels[key] = _compile(model, kind, g0, rates, ext)
+    return kernel
 
 
 def _shift(m: Scalar, h: Vec, inertia: tuple, r: Vec) -> tuple[Vec, tuple]:
@@ -525,6 +608,22 @@ def _rows(X: FloatArray | None) -> FloatArray | None:
     return None if X is None else np.ascontiguousarray(X.T)
 
 
+def _joint_inputs(model: _DynModel, QT: FloatArray) -> tuple[list[Scalar], list[Scalar], FloatArray | list[float]]:
+    """cos θ, sin θ and q per joint for a chunk (n, M): arrays, or Python floats when M = 1
+    (one configuration: float arithmetic costs far less than NumPy calls on 1-arrays)."""
+    if QT.shape[1] != 1:
+        return (*model.cos_sin(QT), QT)
+    q = QT[:, 0].tolist()
+    cos, sin = list(model.ct), list(model.st)
+    for j in model.rev_index:
+        cos[j], sin[j] = math.cos(model.th[j] + q[j]), math.sin(model.th[j] + q[j])
+    return cos, sin, q
+
+
+def _rate_inputs(X: FloatArray | None) -> FloatArray | list[float] | None:
+    return None if X is None else (X[:, 0].tolist() if X.shape[1] == 1 else X)
+
+
 def _rnea(
     robot: RobotParams,
     Q: FloatArray,
@@ -535,20 +634,32 @@ def _rnea(
 ) -> FloatArray:
     """τ (n, N) by RNEA, drive terms included, for Q etc. of shape (N, n) (None: zero)."""
     model = _model(robot)
-    g0 = _gravity_in_frame0(robot, gravity)
+    g0 = tuple(float(v) for v in _gravity_in_frame0(robot, gravity))
     wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
+    kernel = _kernel(model, "rnea", g0, (QD is not None, QDD is not None), wrench is not None)
     QT, QDT, QDDT = _rows(Q), _rows(QD), _rows(QDD)
     tau = np.empty(QT.shape)
     for s in range(0, QT.shape[1], CHUNK):
         sl = slice(s, s + CHUNK)
-        ext = None if wrench is None else (tuple(wrench[:3, sl]), tuple(wrench[3:, sl]))
-        tau[:, sl] = _rnea_chunk(
-            model, QT[:, sl], None if QDT is None else QDT[:, sl], None if QDDT is None else QDDT[:, sl], g0, ext
-        )
+        cos, sin, q = _joint_inputs(model, QT[:, sl])
+        rates = [_rate_inputs(None if X is None else X[:, sl]) for X in (QDT, QDDT)]
+        ext = None if wrench is None else _rate_inputs(wrench[:, sl])
+        for j, value in enumerate(kernel(cos, sin, q, rates[0], rates[1], ext)):
+            tau[j, sl] = value
     drive = _drive_torque(model, QDT, QDDT)
     if drive is not None:
         tau += drive
     return tau
+
+
+def _crba(model: _DynModel, QT: FloatArray) -> FloatArray:
+    """Mass matrices (n, n, M) of a chunk (n, M)."""
+    n = model.n
+    out = np.empty((n, n, QT.shape[1]))
+    cos, sin, q = _joint_inputs(model, QT)
+    for k, value in enumerate(_kernel(model, "crba")(cos, sin, q, None, None, None)):
+        out[k // n, k % n] = value
+    return out
 
 
 def _arguments(robot: RobotParams, q: ArrayLike, **rates: ArrayLike) -> tuple[bool, list[FloatArray]]:
@@ -608,7 +719,7 @@ def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
     QT = _rows(Q)
     out = np.empty((robot.n_dofs, robot.n_dofs, QT.shape[1]))
     for s in range(0, QT.shape[1], CHUNK):
-        out[:, :, s : s + CHUNK] = _crba_chunk(model, QT[:, s : s + CHUNK])
+        out[:, :, s : s + CHUNK] = _crba(model, QT[:, s : s + CHUNK])
     out = out.transpose(2, 0, 1)
     return out[0].copy() if single else out
 
@@ -627,11 +738,13 @@ def forward_dynamics(
     model = _model(robot)
     rhs = _rows(TAU) - _rnea(robot, Q, QD, None, gravity, f_tool)
     QT = _rows(Q)
+    if single:
+        return np.linalg.solve(_crba(model, QT)[:, :, 0], rhs[:, 0])
     out = np.empty(QT.shape)
     for s in range(0, QT.shape[1], CHUNK):
         sl = slice(s, s + CHUNK)
-        out[:, sl] = _solve_spd(_crba_chunk(model, QT[:, sl]), rhs[:, sl])
-    return out[:, 0] if single else out.T
+        out[:, sl] = _solve_spd(_crba(model, QT[:, sl]), rhs[:, sl])
+    return out.T
 
 
 def _link_jacobians(robot: RobotParams, Q: FloatArray, QD: FloatArray) -> dict[str, FloatArray]:
