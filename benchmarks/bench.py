@@ -37,6 +37,7 @@ from kinematics import (  # noqa: E402
     workspace_points,
 )
 from bench_dynamics import bench_dynamics  # noqa: E402
+from bench_trajectory import bench_trajectory  # noqa: E402
 from dh_convert import to_modified, to_standard  # noqa: E402
 from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
 from robot_state import RobotState  # noqa: E402
@@ -316,6 +317,7 @@ def main() -> None:
     bench_dynamics(table, robot, rng, measure, median_iqr, us)
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
+    bench_trajectory(table, load_robot("ur5"), rng, measure, median_iqr, ms, us)
     if not args.skip_render:
         bench_render(table, robot)
         bench_screenshot(table)
