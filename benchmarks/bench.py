@@ -224,8 +224,12 @@ def bench_conventions(table: Table, robot: RobotParams, rng: np.random.Generator
     n = 10**5
     Q = random_configurations(robot, n, rng)
     for what, fn in (("batched FK", forward_kinematics), ("batched Jacobian", jacobian)):
-        std_med, _ = median_iqr(measure(lambda: fn(robot, Q), repeats=9))
-        med, iqr = median_iqr(measure(lambda: fn(modified, Q), repeats=9))
+        std_runs, mod_runs = [], []
+        for _ in range(15):  # alternated, so a change of machine load hits both alike
+            std_runs += measure(lambda: fn(robot, Q), repeats=1)
+            mod_runs += measure(lambda: fn(modified, Q), repeats=1)
+        std_med, _ = median_iqr(std_runs)
+        med, iqr = median_iqr(mod_runs)
         table.add(
             f"{what}, {robot.name} as modified DH, N = 1e5 (µs/config; baseline: standard DH)",
             f"{med / n * 1e6:.3f} µs", f"{iqr / n * 1e6:.3f} µs", f"{std_med / n * 1e6:.3f} µs (standard)",
