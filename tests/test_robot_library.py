@@ -33,6 +33,8 @@ LIBRARY = {
     "irb120": (6, "standard"),
     "irb140": (6, "standard"),
     "lrmate200id": (6, "standard"),
+    "m20ia": (6, "standard"),
+    "tx90": (6, "standard"),
 }
 
 # Data-sheet weight [kg] of the arms whose files give published inertials.  The files model
@@ -82,6 +84,9 @@ HAND_POSES = {
     "irb120": (np.zeros(6), np.array([0.302 + 0.072, 0.0, 0.29 + 0.27 + 0.07]), R_FWD_X_DOWN),
     "irb140": (np.zeros(6), np.array([0.07 + 0.38 + 0.065, 0.0, 0.352 + 0.36]), R_FWD_X_DOWN),
     "lrmate200id": (np.zeros(6), np.array([0.05 + 0.335 + 0.08, 0.0, 0.33 + 0.33 + 0.035]), R_FWD_X_UP),
+    "m20ia": (np.zeros(6), np.array([0.15 + 0.835 + 0.1, 0.0, 0.525 + 0.79 + 0.25]), R_FWD_X_UP),
+    # Stäubli zero: the arm stands straight up, J3's 50 mm offset to the side (+y)
+    "tx90": (np.zeros(6), np.array([0.05, 0.05, 0.478 + 0.425 + 0.425 + 0.1]), R_UP),
 }
 
 # Industrial arms: the data sheet's reach is the largest horizontal distance from the axis
@@ -93,6 +98,7 @@ WRIST_REACH = {
     "irb120": (0.580, 0.27 + math.hypot(0.302, 0.07)),
     "irb140": (0.810, 0.07 + 0.36 + 0.38),
     "lrmate200id": (0.717, 0.05 + 0.33 + math.hypot(0.335, 0.035)),
+    "m20ia": (1.811, 0.15 + 0.79 + math.hypot(0.835, 0.25)),
 }
 
 
@@ -162,6 +168,13 @@ def test_seven_dof_reach_matches_the_data_sheet(name, reach, shoulder, tip):
     # straight arm: the shoulder-to-tip distance along the arm, ignoring lateral offsets
     vertical = frames[tip, 2, 3] - frames[shoulder, 2, 3]
     assert vertical == pytest.approx(reach, abs=1e-3)
+
+
+def test_tx90_reach_to_the_flange_matches_the_data_sheet():
+    """Stäubli: 1000 mm from axis 1 to the flange, the arm stretched forward (J2 = 90°)."""
+    flange = forward_kinematics(robot("tx90"), np.array([0.0, 90.0, 0.0, 0.0, 0.0, 0.0]) * DEG)[:3, 3]
+    assert flange[0] == pytest.approx(0.05 + 0.425 + 0.425 + 0.1, abs=1e-12)
+    assert flange[0] == pytest.approx(1.000, abs=1e-3)
 
 
 def test_panda_reach_over_its_elbow_range_matches_the_data_sheet():
