@@ -16,9 +16,12 @@ from typing import Sequence
 
 import numpy as np
 
+import fileio
 import graphics_defs as gd
 import graphics_objects as go
 from _cli_robot import dh_table_text, export
+from kinematics import available_memory, max_workspace_samples, sampling_bounds
+from messages import clip
 from robot_defs import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
 import recording
 from pick_demo import plan_for
@@ -100,8 +103,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _positive_int(text: str) -> int:
-    if not re.fullmatch(r"\d+", text.strip()) or int(text) <= 0:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got '{text}'")
+    # at most 4000 digits: int() refuses longer strings, and no memory holds that many points
+    if not re.fullmatch(r"\d{1,4000}", text.strip()) or int(text) <= 0:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got '{clip(text)}'")
     return int(text)
 
 
@@ -163,17 +167,31 @@ def parse_frames(text: str | None, n_frames: int) -> list[int] | None:
 
 
 def check_writable(path: Path) -> Path:
-    """Absolute ``path`` if a file can be written there, else CliError naming the reason."""
+    """Absolute ``path`` if a PNG can be written there (fileio.check_writable), else
+    CliError naming the reason."""
     path = path.expanduser().absolute()
-    if path.is_dir():
-        raise CliError(f"--screenshot: cannot write '{path}': it is a directory")
+    try:
+        fileio.check_writable(path)
+    except fileio.FileWriteError as exc:
+        raise CliError(f"--screenshot: {exc}") from None
     if path.suffix.lower() != ".png":
-        raise CliError(f"--screenshot: '{path.name}' must end in .png (screenshots are PNG files)")
-    if not path.parent.is_dir():
-        raise CliError(f"--screenshot: cannot write '{path}': directory '{path.parent}' does not exist")
-    if not os.access(path.parent, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
-        raise CliError(f"--screenshot: cannot write '{path}': permission denied")
+        raise CliError(f"--screenshot: '{clip(path.name)}' must end in .png (screenshots are PNG files)")
     return path
+
+
+def check_workspace(n_points: int, robot: RobotParams) -> None:
+    """CliError unless ``--workspace n_points`` can be computed for ``robot``: its joints
+    can be sampled (no unlimited prismatic joint) and the points fit in memory."""
+    try:
+        sampling_bounds(robot)
+    except ValueError as exc:
+        raise CliError(f"--workspace: {exc}") from None
+    limit = max_workspace_samples(robot)
+    if n_points > limit:
+        raise CliError(
+            f"--workspace: {clip(str(n_points), 20)} points need more than the {available_memory() // 2**20} MiB "
+            f"of memory available; at most {limit} points fit"
+        )
 
 
 def check_display() -> None:
@@ -194,6 +212,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         robot = load_robot(args.robot, tip=args.tip, convention=args.convention)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
+    if args.workspace:
+        check_workspace(args.workspace, robot)
     pick_plan, time = pick_arguments(args, robot)
     record, duration, fps = record_arguments(args, pick_plan, time)
     return Config(
@@ -323,8 +343,8 @@ def write_screenshot(config: Config) -> None:
         raise CliError(f"offscreen rendering failed: {exc}") from None
     try:
         go.save_png(config.screenshot, image)
-    except OSError as exc:
-        raise CliError(f"--screenshot: cannot write '{config.screenshot}': {exc.strerror or exc}") from None
+    except fileio.FileWriteError as exc:
+        raise CliError(f"--screenshot: {exc}") from None
 
 
 def attach_negative_values(argv: Sequence[str]) -> list[str]:

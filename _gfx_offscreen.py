@@ -84,8 +84,9 @@ class OffscreenRenderer:
 def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
     """Write ``image`` (H, W, 3) RGB or (H, W, 4) RGBA uint8, row 0 at the top, as a PNG.
 
-    Raises ValueError for another shape or dtype and OSError naming the path when it
-    cannot be written."""
+    The file is written atomically (fileio.write_atomic): complete or not at all.  Raises
+    ValueError for another shape or dtype and fileio.FileWriteError (an OSError) naming
+    the path and the reason when it cannot be written."""
     img = np.asarray(image)
     if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] not in (3, 4) or 0 in img.shape:
         raise ValueError(f"save_png: need an (H, W, 3|4) uint8 image, got {img.shape} {img.dtype}")
@@ -100,7 +101,4 @@ def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
     header = struct.pack(">IIBBBBB", width, height, 8, color_type, 0, 0, 0)
     png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
     png += chunk(b"IEND", b"")
-    try:
-        write_atomic(path, png)
-    except OSError as exc:
-        raise OSError(exc.errno, f"cannot write PNG to {os.fspath(path)}: {exc.strerror}", os.fspath(path)) from exc
+    write_atomic(path, png)

@@ -41,6 +41,7 @@ class FileError(OSError):
     def __init__(self, path: str, reason: str, code: int | None = None) -> None:
         super().__init__(f"cannot {self.VERB} '{path}': {reason}")
         self.errno = code
+        self.strerror = reason  # so code that reports ``exc.strerror`` of an OSError shows the reason
         self.filename = path
         self.reason = reason
 
@@ -137,6 +138,23 @@ def _target(path: str | os.PathLike[str]) -> tuple[Path, int | None]:
     if reason is not None:
         raise FileWriteError(shown, reason, errno.EINVAL)
     return Path(os.path.realpath(target)), stat.S_IMODE(st.st_mode)
+
+
+def check_writable(path: str | os.PathLike[str]) -> None:
+    """Check, before any work is done, that :func:`write_atomic` could write ``path``:
+    FileWriteError for a target that is not a regular file, a missing directory, a name
+    longer than the file system accepts, or a directory that cannot be entered or written
+    (as judged for the real user).  Writing may still fail later (a full disk)."""
+    shown = os.fspath(path)
+    target, _ = _target(path)
+    try:
+        name_max = os.pathconf(target.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        name_max = None
+    if name_max is not None and len(os.fsencode(target.name)) > name_max:
+        raise FileWriteError(shown, os.strerror(errno.ENAMETOOLONG), errno.ENAMETOOLONG)
+    if not os.access(target.parent, os.W_OK | os.X_OK):
+        raise FileWriteError(shown, os.strerror(errno.EACCES), errno.EACCES)
 
 
 def write_atomic(path: str | os.PathLike[str], data: bytes | str) -> None:
