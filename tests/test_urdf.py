@@ -99,6 +99,8 @@ HAND_WRITTEN = {
     "prismatic.urdf": (None, ["turn", "slide", "roll", "wrist"]),
     "fixed_mid.urdf": (None, ["j1", "j2", "j3"]),
     "branching.urdf": ("left_finger", ["shoulder", "elbow", "wrist", "left"]),
+    "ur5_ros_layout.urdf": (None, ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                   "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]),
 }
 
 
@@ -159,6 +161,20 @@ def test_unknown_effort_and_velocity_are_unlimited_drives():
     assert [lim.velocity for lim in limits[:5]] == [2, 2, 3, 4, 4]
     assert limits[5] is None  # continuous, nothing known
     assert load_robot(DATA / "branching.urdf", tip="camera").inertials is None
+
+
+def test_a_ros_style_ur5_is_the_shipped_ur5_turned_about_z():
+    """ur5_ros_layout.urdf (ROS layout, built from UR's DH values) imports to the arm of
+    robots/ur5.toml: its tool0 is the DH endeffector turned 180° about the base z axis at
+    every q, d1 lands in the base, d6 in the tool, and the lengths come back (a ≥ 0)."""
+    rob, ur5 = load_robot(DATA / "ur5_ros_layout.urdf"), load_robot("ur5")
+    turn = np.diag([-1.0, -1.0, 1.0, 1.0])
+    Q = random_q(ur5, np.random.default_rng(55), 50)
+    np.testing.assert_allclose(forward_kinematics(rob, Q), turn @ forward_kinematics(ur5, Q), atol=1e-12)
+    np.testing.assert_allclose(rob.dh_a, [0.0, 0.425, 0.39225, 0.0, 0.0, 0.0], atol=1e-15)
+    np.testing.assert_allclose(rob.dh_d, [0.0, 0.0, 0.0, 0.10915, 0.09465, 0.0], atol=1e-15)
+    np.testing.assert_allclose(rob.base_tf.t(), [0.0, 0.0, 0.089159], atol=1e-15)
+    np.testing.assert_allclose(rob.endeff_tf.t(), [0.0, 0.0, 0.0823], atol=1e-15)
 
 
 def test_parallel_and_coincident_axes_give_their_dh_values():
