@@ -60,6 +60,7 @@ class Config:
     record: Path | None = None  # --record DIR
     duration: float = gd.RECORD_DEFAULT_DURATION_S  # --duration [s]
     fps: float = gd.RECORD_DEFAULT_FPS  # --fps
+    annotate: int | None = None  # joint number whose DH parameters are drawn
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -99,6 +100,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="with --record: seconds to record (default: the rest of the pick task, "
                              f"else {gd.RECORD_DEFAULT_DURATION_S:g})")
     parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {gd.RECORD_DEFAULT_FPS:g})")
+    parser.add_argument("--annotate", metavar="J",
+                        help="draw joint J's DH parameters (d, θ, a, α) between frames J-1 and J, J = 1..n")
     return parser
 
 
@@ -204,6 +207,13 @@ def check_display() -> None:
                    "use --screenshot FILE.png to render offscreen, or run under xvfb-run")
 
 
+def parse_joint_number(option: str, text: str, n_dofs: int) -> int:
+    """A joint number 1..``n_dofs`` from ``text``, else CliError naming ``option``."""
+    if not re.fullmatch(r"\d+", text.strip()) or not 1 <= int(text) <= n_dofs:
+        raise CliError(f"{option}: expected a joint number 1..{n_dofs}, got '{text}'")
+    return int(text)
+
+
 def config_from_args(args: argparse.Namespace) -> Config:
     """Validate parsed arguments: load the robot, parse q, size, frames and the screenshot path."""
     if args.tip is not None and not args.robot.lower().endswith(".urdf"):
@@ -231,6 +241,7 @@ def config_from_args(args: argparse.Namespace) -> Config:
         record=record,
         duration=duration,
         fps=fps,
+        annotate=None if args.annotate is None else parse_joint_number("--annotate", args.annotate, robot.n_dofs),
     )
 
 
@@ -301,17 +312,19 @@ def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
 
 
 def session_from_config(config: Config) -> ViewerSession:
-    """A ViewerSession with the command line's q, frames and wireframe applied."""
+    """A ViewerSession with the command line's q, frames, wireframe and annotated joint
+    applied, framed for all of it."""
     session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1])
     if config.q is not None:
         session.set_q(config.q)
-        session.fit_camera()
     if config.frames is not None:
         session.options.show_only_frames(config.frames)
     if config.wireframe:
         session.options.toggle_wireframe()
     if config.pick_plan is not None:
         session.start_pick(config.pick_plan, config.time)
+    session.options.annotate_joint = config.annotate
+    session.fit_camera()
     return session
 
 

@@ -21,38 +21,62 @@ from kinematics import Kinematics
 from transforms import HomogeneousTransform
 
 
-def draw_arrows(origins: ArrayLike, vecs: ArrayLike, shaft_radius: float, head_radius: float, head_length: float) -> None:
+def draw_arrows(origins: ArrayLike, vecs: ArrayLike, shaft_radius: ArrayLike, head_radius: ArrayLike,
+                head_length: ArrayLike) -> None:
     """Arrows (cylinder shaft + cone tip) from world ``origins`` (N, 3) to ``origins + vecs``
-    in the current colour; a head is at most half its arrow.  Zero-length vectors draw
-    nothing."""
+    in the current colour, sizes scalars or (N,); a head is at most half its arrow.
+    Zero-length vectors draw nothing."""
     origins = np.asarray(origins, dtype=float).reshape(-1, 3)
     vecs = np.asarray(vecs, dtype=float).reshape(-1, 3)
+    n = len(origins)
+    shaft, head_r, head_l = (np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in (shaft_radius, head_radius, head_length))
     lengths = np.linalg.norm(vecs, axis=1)
     keep = lengths >= gd.MIN_LINK_LENGTH
-    origins, vecs, lengths = origins[keep], vecs[keep], lengths[keep]
-    heads = np.minimum(head_length, 0.5 * lengths)
+    origins, vecs, lengths, shaft, head_r, head_l = (v[keep] for v in (origins, vecs, lengths, shaft, head_r, head_l))
+    heads = np.minimum(head_l, 0.5 * lengths)
     shaft_ends = origins + vecs * ((lengths - heads) / np.where(lengths > 0.0, lengths, 1.0))[:, None]
     lists = resources().lists
-    call_list_at(lists["cylinder"], along(origins, vecs, shaft_radius, lengths - heads))
-    call_list_at(lists["cone"], along(shaft_ends, vecs, head_radius, heads))
+    call_list_at(lists["cylinder"], along(origins, vecs, shaft, lengths - heads))
+    call_list_at(lists["cone"], along(shaft_ends, vecs, head_r, heads))
+
+
+def stack_ranks(origins: NDArray[np.float64], tol: float) -> NDArray[np.int64]:
+    """For each of ``origins`` (N, 3), how many earlier ones lie within ``tol`` of it."""
+    gaps = np.linalg.norm(origins[:, None] - origins[None], axis=-1) <= tol
+    return np.tril(gaps, k=-1).sum(axis=1)
 
 
 class AxesGraphics(Drawable):
     """RGB axes (x red, y green, z blue) with cone tips, ``length`` metres long, of the
-    world poses ``frames`` (N, 4, 4)."""
+    world poses ``frames`` (N, 4, 4).
+
+    Where axes coincide nothing z-fights: a frame sharing its origin with k earlier
+    ones is drawn ``1 + k * FRAME_STACK_LENGTH_STEP`` times longer and thinner (its tips
+    show beyond the others), and shaft radii differ slightly from frame to frame
+    (``FRAME_STACK_RADIUS_STEPS``) so axes lying along one line never share a surface.
+    """
 
     def __init__(self, length: float, frames: ArrayLike = np.zeros((0, 4, 4))) -> None:
         super().__init__()
         self.length = float(length)
         self.frames = np.asarray(frames, dtype=float).reshape(-1, 4, 4)
 
+    def lengths(self) -> NDArray[np.float64]:
+        """Axis length (N,) of each frame, metres."""
+        ranks = stack_ranks(self.frames[:, :3, 3], gd.MIN_LINK_LENGTH)
+        return self.length * (1.0 + gd.FRAME_STACK_LENGTH_STEP * ranks)
+
     def paint(self) -> None:
+        lengths = self.lengths()
+        steps = np.asarray(gd.FRAME_STACK_RADIUS_STEPS)
+        ranks = np.rint((lengths / self.length - 1.0) / gd.FRAME_STACK_LENGTH_STEP).astype(int)
+        thin = steps[np.arange(len(lengths)) % len(steps)] * np.maximum(1.0 - gd.FRAME_STACK_THINNING * ranks, 0.4)
         for column, color in enumerate((gd.AXIS_X_COLOR, gd.AXIS_Y_COLOR, gd.AXIS_Z_COLOR)):
             set_color(color)
             draw_arrows(
-                self.frames[:, :3, 3], self.frames[:, :3, column] * self.length,
-                self.length * gd.FRAME_SHAFT_RADIUS_FRAC, self.length * gd.FRAME_HEAD_RADIUS_FRAC,
-                self.length * gd.FRAME_HEAD_LENGTH_FRAC,
+                self.frames[:, :3, 3], self.frames[:, :3, column] * lengths[:, None],
+                self.length * gd.FRAME_SHAFT_RADIUS_FRAC * thin, self.length * gd.FRAME_HEAD_RADIUS_FRAC * thin,
+                lengths * gd.FRAME_HEAD_LENGTH_FRAC,
             )
 
 
@@ -201,7 +225,32 @@ class RobotGraphics(Drawable):
 def frame_poses(kinematics: Kinematics, show_frames: list[bool], show_endeff: bool) -> NDArray[np.float64]:
     """World poses (N, 4, 4) of the frames to draw: ``h_tf[i]`` for each ``show_frames[i]``
     (indices past the robot's frames ignored), then ``endeff_tf`` when ``show_endeff``."""
-    shown = kinematics.frames[np.flatnonzero(show_frames[: len(kinematics.frames)])]
+    return frames_and_names(kinematics, show_frames, show_endeff)[0]
+
+
+def frames_and_names(kinematics: Kinematics, show_frames: list[bool],
+                     show_endeff: bool) -> tuple[NDArray[np.float64], list[str]]:
+    """The frames to draw (see :func:`frame_poses`) and their names: the DH frame number,
+    "E" for the endeffector."""
+    index = np.flatnonzero(show_frames[: len(kinematics.frames)])
+    shown, names = kinematics.frames[index], [str(i) for i in index]
     if show_endeff:
-        shown = np.concatenate([shown, kinematics.endeff_tf.mat[None]])
-    return shown
+        shown, names = np.concatenate([shown, kinematics.endeff_tf.mat[None]]), names + ["E"]
+    return shown, names
+
+
+def frame_labels(frames: NDArray[np.float64], names: list[str], lengths: NDArray[np.float64]) -> list[tuple[NDArray, str]]:
+    """One label per distinct origin among ``frames`` (N, 4, 4): the names of the frames
+    there joined by commas ("4,5"), anchored a little along the bisector of the x and y
+    axes of the first one, at ``FRAME_LABEL_FRAC`` of its axis ``lengths`` (N,)."""
+    labels: list[tuple[NDArray, str]] = []
+    origins = frames[:, :3, 3]
+    taken = np.zeros(len(frames), dtype=bool)
+    for i in range(len(frames)):
+        if taken[i]:
+            continue
+        here = np.linalg.norm(origins - origins[i], axis=1) <= gd.MIN_LINK_LENGTH
+        taken |= here
+        anchor = origins[i] + gd.FRAME_LABEL_FRAC * lengths[i] * (frames[i, :3, 0] + frames[i, :3, 1]) / np.sqrt(2.0)
+        labels.append((anchor, ",".join(n for n, h in zip(names, here) if h)))
+    return labels

@@ -106,7 +106,8 @@ GL_PRESETS: dict[str, dict[str, Any]] = {
                           "blend": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA")},
 }
 
-_PUSHED_BITS = ("ENABLE_BIT", "COLOR_BUFFER_BIT", "DEPTH_BUFFER_BIT", "POLYGON_BIT", "CURRENT_BIT")
+_PUSHED_BITS = ("ENABLE_BIT", "COLOR_BUFFER_BIT", "DEPTH_BUFFER_BIT", "POLYGON_BIT", "CURRENT_BIT", "LINE_BIT",
+                "PIXEL_MODE_BIT", "LIST_BIT")
 
 
 @contextlib.contextmanager

@@ -9,17 +9,31 @@ from numpy.typing import NDArray
 
 import graphics_defs as gd
 from _gfx_camera import Camera
-from _gfx_drawables import AxesGraphics, RobotGraphics, TargetGraphics, VectorGraphics, frame_poses, ground_for
+from _gfx_annotate import AnnotationGraphics, dh_annotation
+from _gfx_drawables import (
+    AxesGraphics,
+    RobotGraphics,
+    TargetGraphics,
+    VectorGraphics,
+    frame_labels,
+    frame_poses,
+    frames_and_names,
+    ground_for,
+)
 from _gfx_robot import part_corners, robot_look, robot_parts, robot_reach
 from _gfx_gl import GL, context_key, gl_matrix
 from _gfx_resources import resources
 from _gfx_scene import GraphicsOptions, Scene
 from _gfx_task import TaskGraphics, task_points
+from _gfx_text import TextGraphics
 from kinematics import Kinematics
 
 # The robot drawables of the Kinematics objects being shown (a viewer keeps one for the
 # current and one for the desired state); they go when their Kinematics goes.
 _ROBOT_ITEMS: weakref.WeakKeyDictionary[Kinematics, RobotGraphics] = weakref.WeakKeyDictionary()
+
+
+_TEXT = TextGraphics()  # the labels of every frame (it keeps the font's display lists)
 
 
 def robot_item(kinematics: Kinematics, ghost: bool = False) -> RobotGraphics:
@@ -98,18 +112,31 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
         robot.draw()
 
     GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-    AxesGraphics(robot.look.frame_length, frame_poses(kin, options.show_frames, options.show_endeff_frame)).draw()
+    frames, names = frames_and_names(kin, options.show_frames, options.show_endeff_frame)
+    axes = AxesGraphics(robot.look.frame_length, frames)
+    axes.draw()
     if options.show_target and scene.target_tf is not None:
         TargetGraphics(reach, scene.target_tf, scene.target_reachable).draw()
     if options.show_vectors:
         VectorGraphics(reach, scene.vectors).draw()
+    labels = [(p, text, gd.LABEL_COLOR) for p, text in frame_labels(frames, names, axes.lengths())] if options.show_labels else []
+    joint = options.annotate_joint
+    if joint is not None and 1 <= joint <= kin.robot.n_dofs:  # a joint number left from another robot draws nothing
+        annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, robot.look.frame_length)
+        AnnotationGraphics(annotation).draw()
+        labels += annotation.labels
+    if labels:
+        _TEXT.labels = labels
+        _TEXT.place(camera.project(np.array([p for p, _, _ in labels]), width, height), height)
+        _TEXT.draw()
 
 
 def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64]:
     """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
     and ``options``: the corners of the robot's parts at its current pose, the point
     of the floor under its base, the tips of the drawn frames' axes, the IK target with
-    its axes, the vectors, the workspace cloud when shown and the pick task's table and path.  For framing (``fit``)."""
+    its axes, the vectors, the workspace cloud, the pick task's table and path and the
+    DH annotation when shown.  For framing (``fit``)."""
     kin = scene.kinematics
     look = robot_look(kin.robot)
     parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if options.show_com else None)
@@ -125,4 +152,8 @@ def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64
         points.append(np.asarray(scene.workspace.points, dtype=float))
     if scene.task is not None:
         points.append(task_points(scene.task))
+    joint = options.annotate_joint
+    if joint is not None and 1 <= joint <= kin.robot.n_dofs:
+        annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, look.frame_length)
+        points += [line for line, _, _ in annotation.lines] + [anchor for anchor, _, _ in annotation.labels]
     return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])

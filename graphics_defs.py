@@ -57,6 +57,31 @@ FRAME_LENGTH_FRAC = 0.16      # axis length, fraction of the reach
 FRAME_SHAFT_RADIUS_FRAC = 0.035  # shaft radius, fraction of the axis length
 FRAME_HEAD_RADIUS_FRAC = 0.09    # cone radius, fraction of the axis length
 FRAME_HEAD_LENGTH_FRAC = 0.25    # cone length, fraction of the axis length
+FRAME_STACK_LENGTH_STEP = 0.15   # a frame sharing its origin with k earlier ones: 1 + k * this longer ...
+FRAME_STACK_THINNING = 0.2       # ... and 1 - k * this thinner, so its tips show beyond the others
+FRAME_STACK_RADIUS_STEPS = (1.0, 0.94, 0.88)  # shaft radius factors cycled over frames: no shared surfaces
+FRAME_LABEL_FRAC = 0.3           # label anchor: this fraction of the axis length between x and y
+
+# --- labels (bitmap text, the same in the window and offscreen) ----------------
+LABEL_PIXEL_SCALE = 2         # 5 x 7 glyphs drawn this many pixels per font pixel
+LABEL_OFFSET_PX = (4, 4)      # text starts this far right of and above its anchor's pixel
+LABEL_COLOR = (1.0, 1.0, 1.0, 1.0)
+LABEL_SHADOW_COLOR = (0.0, 0.0, 0.0, 1.0)
+
+# --- DH parameter annotation of one joint (GraphicsOptions.annotate_joint) ---------
+ANNOTATION_OFFSET_FRAC = 0.35  # dimension lines this fraction of the frame axis length beside the segment
+ANNOTATION_TICK_FRAC = 0.12    # arrowhead size, fraction of the frame axis length
+ANNOTATION_ARC_FRAC = 0.6      # angle arc radius, fraction of the frame axis length
+ANNOTATION_SPOKE_RATIO = 1.25  # the dashed directions an angle lies between: this * the arc radius
+ANNOTATION_ARC_SEGMENTS = 64   # line segments of a full circle
+ANNOTATION_LINE_WIDTH = 2.0    # pixels
+ANNOTATION_DASH = (2, 0x3333)  # glLineStipple(factor, pattern) of extension lines and spokes
+ANNOTATION_COLORS = {
+    "d": (0.25, 0.70, 1.00, 1.0),      # along z: light blue
+    "a": (1.00, 0.35, 0.25, 1.0),      # along x: light red
+    "theta": (1.00, 0.90, 0.20, 1.0),  # about z: yellow
+    "alpha": (0.85, 0.25, 1.00, 1.0),  # about x: violet
+}
 AXIS_X_COLOR = (0.95, 0.10, 0.10, 1.0)
 AXIS_Y_COLOR = (0.10, 0.85, 0.10, 1.0)
 AXIS_Z_COLOR = (0.15, 0.25, 1.00, 1.0)

@@ -18,6 +18,8 @@ The work is done by private modules, one job each:
   drawable, which owns its GL objects and paints itself (pyqtgraph's item model);
 * ``_gfx_robot``: the robot as its DH segments and joints, part sizes (no GL);
 * ``_gfx_drawables``: floor, axes, arrows, IK target, robot;
+* ``_gfx_text``: labels as bitmap text (no GUI toolkit);
+* ``_gfx_annotate``: one joint's DH parameters as dimensions and arcs;
 * ``_gfx_cloud``: the workspace cloud with its vertex buffer and picture cache;
 * ``_gfx_render``: :func:`render_scene`;
 * ``_gfx_offscreen``: :class:`OffscreenRenderer` (OSMesa) and :func:`save_png`.
@@ -27,6 +29,7 @@ so :func:`require_osmesa_platform` can still choose PyOpenGL's platform after im
 """
 from __future__ import annotations
 
+from _gfx_annotate import Annotation, AnnotationGraphics, dh_annotation
 from _gfx_camera import Camera
 from _gfx_cloud import WorkspaceCloud, colormap
 from _gfx_drawables import (
@@ -35,6 +38,8 @@ from _gfx_drawables import (
     RobotGraphics,
     TargetGraphics,
     VectorGraphics,
+    frame_labels,
+    frames_and_names,
 )
 from _gfx_gl import GL_PRESETS, gl_state, require_osmesa_platform
 from _gfx_offscreen import OffscreenRenderer, save_png
@@ -42,8 +47,16 @@ from _gfx_render import render_scene, visible_points
 from _gfx_robot import DHSegments, Part, RobotLook, dh_segments, differing, robot_look, robot_parts, robot_reach
 from _gfx_resources import Drawable
 from _gfx_scene import RGBA, GraphicsOptions, Scene, Vector
+from _gfx_text import TextGraphics, text_size
 
 __all__ = [
+    "Annotation",
+    "AnnotationGraphics",
+    "TextGraphics",
+    "dh_annotation",
+    "frame_labels",
+    "frames_and_names",
+    "text_size",
     "RGBA",
     "AxesGraphics",
     "Camera",

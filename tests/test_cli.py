@@ -234,3 +234,19 @@ def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
             others = [v for i, v in enumerate((r, g, b)) if i != column]
             is_axis = channel > max(others) + 40
             assert is_axis == expect_axis, f"--frames {frames}: {name} axis pixel {(r, g, b)} at {(x, y)}"
+
+
+def test_annotate_draws_the_joint_s_dh_parameters(tmp_path: Path) -> None:
+    """``--annotate 2`` changes the picture near frames 1 and 2 (dimensions, arcs, values);
+    a joint number outside 1..n is one error line, exit 2."""
+    pictures = {}
+    for extra in ([], ["--annotate", "2"]):
+        out = tmp_path / f"annotate{len(extra)}.png"
+        args = ["--robot", "puma560", "--q", "0,45,-135,0,45,0", "--size", "320x240", "--screenshot", str(out), *extra]
+        assert run(*args).returncode == 0
+        pictures[len(extra)] = read_png(out)[..., :3].astype(int)
+    assert (np.abs(pictures[2] - pictures[0]).max(axis=-1) > 40).sum() > 200
+    for bad in ("0", "7", "x"):
+        result = run("--robot", "puma560", "--annotate", bad, "--screenshot", str(tmp_path / "bad.png"))
+        assert result.returncode == 2
+        assert result.stderr == f"robot-sim: error: --annotate: expected a joint number 1..6, got '{bad}'\n"

@@ -272,3 +272,148 @@ def test_demo_velocity_arrows_start_outside_the_endeffector_and_show(render: Fra
     orange = color_mask(image, rgba, margin=20, ratio=1.3)
     assert window(orange, project(camera, np.asarray(origin) + 0.5 * vec)[0], 2).any(), "no arrow halfway"
     assert math.isfinite(radius_px)
+
+
+# ------------------------------------------------------------ frame labels
+
+
+def white_mask(image: np.ndarray) -> np.ndarray:
+    return np.all(image[..., :3] >= 235, axis=-1)
+
+
+def label_box(camera: go.Camera, anchor: np.ndarray, text: str) -> tuple[slice, slice]:
+    """Image rows and columns where ``text`` anchored at world ``anchor`` is written."""
+    x, y = project(camera, anchor)[0]
+    w, h = go.text_size(text)
+    dx, dy = gd.LABEL_OFFSET_PX
+    left, bottom = int(round(x)) + dx, int(round(y)) - dy
+    return slice(max(bottom - h - 1, 0), bottom + 3), slice(max(left - 1, 0), left + w + 2)
+
+
+def test_frame_labels_are_written_next_to_each_drawn_frame(render: Frames) -> None:
+    """Frames 0..3 and E of the anthropomorphic arm: each label's box holds white text
+    pixels that are not there with labels off; frames 0 and 1 share their origin and
+    one label "0,1"."""
+    kin = posed("anthropomorphic", [30 * DEG, 60 * DEG, -45 * DEG])
+    options = options_for(kin, base_frame=True)
+    options.toggle_all_frames()
+    frames, names = go.frames_and_names(kin, options.show_frames, options.show_endeff_frame)
+    assert names == ["0", "1", "2", "3", "E"]
+    camera = framed(go.visible_points(go.Scene(kin), options))
+    labelled = render(camera, go.Scene(kin), options)
+    options.show_labels = False
+    plain = render(camera, go.Scene(kin), options)
+    labels = go.frame_labels(frames, names, go.AxesGraphics(go.robot_look(kin.robot).frame_length, frames).lengths())
+    texts = [text for _, text in labels]
+    assert texts == ["0,1", "2", "3,E"]  # frame 1 sits on frame 0 (d1 = 0), no tool offset
+    new = white_mask(labelled) & ~white_mask(plain)
+    for anchor, text in labels:
+        rows, cols = label_box(camera, anchor, text)
+        assert new[rows, cols].sum() >= 8 * len(text), f"label {text!r} not written at {project(camera, anchor)[0].round(1)}"
+    assert new.sum() <= sum(go.text_size(t)[0] * go.text_size(t)[1] for t in texts), "text outside the label boxes"
+
+
+def test_coinciding_frames_do_not_share_surfaces() -> None:
+    """PUMA's frames 4, 5 and 6 share the wrist centre: each later one is longer (its
+    tips show beyond the others) and thinner, so no two axes z-fight."""
+    kin = posed("puma560", [0.0, 45 * DEG, -135 * DEG, 0.0, 45 * DEG, 0.0])
+    frames = kin.frames[[3, 4, 5, 6]]
+    np.testing.assert_allclose(frames[1:, :3, 3], frames[1:2, :3, 3].repeat(3, 0), atol=1e-12)
+    lengths = go.AxesGraphics(1.0, frames).lengths()
+    assert lengths[0] == lengths[1] == 1.0 and lengths[1] < lengths[2] < lengths[3]
+
+
+def test_a_later_frame_on_the_same_origin_shows_its_tip(render: Frames) -> None:
+    """Two frames at one origin, the second's x along the first's x: the second's x tip
+    (longer) is red beyond the first's."""
+    robot = RobotParams.from_arrays("twins", [0.0, 0.3], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [R_, R_])
+    kin = posed(robot, [0.0, 0.0])
+    options = options_for(kin, base_frame=True)
+    options.toggle_frame(1)
+    length = go.robot_look(robot).frame_length
+    camera = framed(np.vstack([key_points(kin), [[0.0, 0.0, length]]]), azimuth_deg=-80.0, elevation_deg=30.0)
+    image = render(camera, go.Scene(kin), options)
+    tip = (1.0 + 0.5 * gd.FRAME_STACK_LENGTH_STEP) * length
+    assert window(color_mask(image, gd.AXIS_X_COLOR), project(camera, [tip, 0.0, 0.0])[0], 1).any()
+
+
+# ------------------------------------------------------- DH annotation
+
+
+def label_values(annotation: object) -> dict[str, float]:
+    out = {}
+    for _, text, _ in annotation.labels:  # type: ignore[attr-defined]
+        name, value = text.split(" = ")
+        out[name] = float(value.split()[0].rstrip("°"))
+    return out
+
+
+def test_standard_annotation_states_the_table_values() -> None:
+    robot = load_robot("puma560")
+    q = np.array([10, 45, -135, 20, 45, 0]) * DEG
+    frames = forward_kinematics(robot, q, all_frames=True)[:-1]
+    for j in range(1, 7):
+        values = label_values(go.dh_annotation(frames, j, False, 0.1))
+        theta = math.degrees(robot.dh_th[j - 1] + q[j - 1])
+        assert values[f"d{j}"] == pytest.approx(robot.dh_d[j - 1], abs=5e-4)
+        assert values[f"a{j}"] == pytest.approx(robot.dh_a[j - 1], abs=5e-4)
+        assert values[f"θ{j}"] == pytest.approx((theta + 180) % 360 - 180, abs=0.05)
+        assert values[f"α{j}"] == pytest.approx(math.degrees(robot.dh_alpha[j - 1]), abs=0.05)
+
+
+def test_modified_annotation_states_craigs_values() -> None:
+    """Row i of a Craig table holds a_{i-1}, α_{i-1}, θ_i, d_i: the labels say so."""
+    rng = np.random.default_rng(11)
+    a, alpha, d = rng.uniform(-0.4, 0.4, 4), rng.uniform(-2.5, 2.5, 4), rng.uniform(-0.4, 0.4, 4)
+    robot = RobotParams.from_arrays("craig", a, alpha, d, [0.0] * 4, [R_, R_, P_, R_], convention="modified")
+    q = np.array([0.3, -0.7, 0.1, 1.2])
+    frames = forward_kinematics(robot, q, all_frames=True)[:-1]
+    for j in range(1, 5):
+        values = label_values(go.dh_annotation(frames, j, True, 0.1))
+        assert values[f"a{j - 1}"] == pytest.approx(a[j - 1], abs=5e-4)
+        assert values[f"α{j - 1}"] == pytest.approx(math.degrees(alpha[j - 1]), abs=0.05)
+        assert values[f"d{j}"] == pytest.approx(d[j - 1] + (q[j - 1] if j == 3 else 0.0), abs=5e-4)
+        theta = math.degrees(q[j - 1] if j != 3 else 0.0)
+        assert values[f"θ{j}"] == pytest.approx(theta, abs=0.05)
+
+
+@pytest.mark.parametrize("name,q,joint", [
+    ("puma560", [0.0, 45.0, -135.0, 0.0, 45.0, 0.0], 2),
+    ("scara", [-30.0, 60.0, 0.1, 0.0], 2),
+    ("stanford", [0.0, 60.0, 0.5, 0.0, 30.0, 0.0], 3),
+])
+def test_annotation_is_drawn_where_the_joints_frames_project(render: Frames, name: str, q: list[float], joint: int) -> None:
+    robot = load_robot(name)
+    q_si = np.where(robot.jtype == P_, q, np.radians(q))
+    kin = posed(robot, q_si)
+    options = options_for(kin, base_frame=True)
+    options.show_only_frames([joint - 1, joint])
+    options.annotate_joint = joint
+    camera = framed(go.visible_points(go.Scene(kin), options))
+    annotated = render(camera, go.Scene(kin), options)
+    options.annotate_joint = None
+    plain = render(camera, go.Scene(kin), options)
+    annotation = go.dh_annotation(kin.frames, joint, robot.is_modified, go.robot_look(robot).frame_length)
+    found: dict[tuple[float, ...], bool] = {}
+    for points, rgba, dashed in annotation.lines:
+        if dashed or np.linalg.norm(points[-1] - points[0]) < 1e-6:
+            continue  # extension lines and spokes; a zero d or a makes no line
+        hue = color_mask(annotated, rgba, margin=15, ratio=1.2) & ~color_mask(plain, rgba, margin=15, ratio=1.2)
+        middle = points[len(points) // 2] if len(points) > 2 else 0.5 * (points[0] + points[1])
+        found[rgba] = found.get(rgba, False) or bool(window(hue, project(camera, middle)[0], 2).any())
+    assert len(found) >= 2 and all(found.values()), f"{name}: annotation lines missing: {found}"
+    o_prev, o_joint = (project(camera, kin.frames[k, :3, 3])[0] for k in (joint - 1, joint))
+    changed = robot_mask(annotated, plain)
+    assert window(changed, o_joint, 12).any() and window(changed, o_prev, 12).any()
+
+
+def test_an_annotated_joint_number_out_of_range_draws_nothing(render: Frames) -> None:
+    kin = posed("planar3")
+    options = options_for(kin)
+    camera = framed(key_points(kin))
+    plain = render(camera, go.Scene(kin), options)
+    for joint in (0, 4, 17):
+        options.annotate_joint = joint
+        assert np.array_equal(render(camera, go.Scene(kin), options), plain)
+    with pytest.raises(ValueError, match="annotate_joint: expected a joint number 1..3, got 4"):
+        go.dh_annotation(kin.frames, 4, False, 0.1)
