@@ -644,7 +644,11 @@ def _rnea(
         cos, sin, q = _joint_inputs(model, QT[:, sl])
         rates = [_rate_inputs(None if X is None else X[:, sl]) for X in (QDT, QDDT)]
         ext = None if wrench is None else _rate_inputs(wrench[:, sl])
-        for j, value in enumerate(kernel(cos, sin, q, rates[0], rates[1], ext)):
+        values = kernel(cos, sin, q, rates[0], rates[1], ext)
+        if QT.shape[1] == 1:
+            tau[:, 0] = values
+            continue
+        for j, value in enumerate(values):
             tau[j, sl] = value
     drive = _drive_torque(model, QDT, QDDT)
     if drive is not None:
@@ -655,9 +659,12 @@ def _rnea(
 def _crba(model: _DynModel, QT: FloatArray) -> FloatArray:
     """Mass matrices (n, n, M) of a chunk (n, M)."""
     n = model.n
-    out = np.empty((n, n, QT.shape[1]))
     cos, sin, q = _joint_inputs(model, QT)
-    for k, value in enumerate(_kernel(model, "crba")(cos, sin, q, None, None, None)):
+    values = _kernel(model, "crba")(cos, sin, q, None, None, None)
+    if QT.shape[1] == 1:
+        return np.array(values).reshape(n, n, 1)
+    out = np.empty((n, n, QT.shape[1]))
+    for k, value in enumerate(values):
         out[k // n, k % n] = value
     return out
 
