@@ -332,3 +332,8 @@ RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
 RECORD_DEFAULT_FPS = 25.0
 RECORD_DEFAULT_DURATION_S = 5.0           # without the pick demo (whose length is the default)
 RECORD_MAX_FPS = 1000.0
+
+# Workspace job state appended to the status bar while it is not idle (workspace_job.py)
+STATUS_WORKSPACE_FORMAT = "   workspace: {state}"
+# How long an error caught at the Qt boundary stays in the status bar (ms)
+STATUS_ERROR_MS = 15000

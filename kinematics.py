@@ -544,15 +544,24 @@ def random_configurations(robot: RobotParams, n_samples: int, rng: np.random.Gen
     return lo + (hi - lo) * rng.random((n_samples, robot.n_dofs))
 
 
+class WorkspaceCancelled(Exception):
+    """Raised by :func:`workspace_points` when its ``cancelled`` callback returns True."""
+
+
 def workspace_points(
-    robot: RobotParams, n_samples: int, seed: int | None = None
+    robot: RobotParams,
+    n_samples: int,
+    seed: int | None = None,
+    cancelled: Callable[[], bool] | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """Endeffector positions (n_samples, 3) [m, world] of uniformly sampled in-limit
     configurations, and the manipulability (n_samples,) of each (see :func:`manipulability`).
 
     ValueError for an ``n_samples`` that is not a positive integer or needs more memory
     than :func:`max_workspace_samples` allows, a bad ``seed``, or a prismatic joint
-    without limits (its range cannot be sampled)."""
+    without limits (its range cannot be sampled).  ``cancelled()`` is called between
+    chunks of samples (from a worker thread, say); when it returns True the computation
+    stops with :class:`WorkspaceCancelled`."""
     n_samples = _check_int("n_samples", n_samples, 1)
     seed = _check_seed(seed)
     limit = max_workspace_samples(robot)
@@ -565,6 +574,8 @@ def workspace_points(
     points = np.empty((Q.shape[0], 3))
     manip = np.empty(Q.shape[0])
     for s in range(0, Q.shape[0], CHUNK * 8):
+        if cancelled is not None and cancelled():
+            raise WorkspaceCancelled(f"workspace of {robot.name} cancelled after {s} of {n_samples} samples")
         chunk = Q[s : s + CHUNK * 8]
         jac = jacobian(robot, chunk)
         points[s : s + len(chunk)] = forward_kinematics(robot, chunk)[:, :3, 3]

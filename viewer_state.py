@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -312,8 +312,9 @@ class ViewerSession:
         return text
 
 
-def compute_workspace(robot: RobotParams, n_points: int) -> Any:
-    """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by manipulability."""
-    points, manipulability = workspace_points(robot, n_points, seed=gd.WORKSPACE_SEED)
+def compute_workspace(robot: RobotParams, n_points: int, cancelled: Callable[[], bool] | None = None) -> Any:
+    """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by
+    manipulability; ``cancelled`` as in kinematics.workspace_points."""
+    points, manipulability = workspace_points(robot, n_points, seed=gd.WORKSPACE_SEED, cancelled=cancelled)
     return go.WorkspaceCloud(points, manipulability)
 

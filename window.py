@@ -11,7 +11,6 @@ from __future__ import annotations
 import functools
 import math
 import sys
-import threading
 import time
 from collections import deque
 from pathlib import Path
@@ -27,7 +26,10 @@ from _cli import PROG, Config, session_from_config
 from _window_pick import PickPanel, PlotDock
 from pick_demo import plan_for
 from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, available_robots, load_robot
+from _qt_guard import guarded, install_excepthook
+from fileio import FileWriteError, write_atomic
 from viewer_state import ViewerSession, compute_workspace, display_range, display_scale, wrap_display
+from workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
 _MODIFIER_FLAGS = {"Shift": Qt.ShiftModifier, "Ctrl": Qt.ControlModifier, "Alt": Qt.AltModifier}
 _MODIFIER_MASK = int(functools.reduce(lambda a, b: a | b, _MODIFIER_FLAGS.values()))
@@ -61,6 +63,7 @@ def run_window(config: Config) -> int:
     """Open the main window for ``config`` and run the Qt event loop; returns its exit status."""
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
     main_window = MainWindow(config)
+    install_excepthook(main_window)  # the net under handlers that are not @guarded
     main_window.show()
     main_window.view.setFocus()
     return app.exec_()
@@ -76,6 +79,7 @@ class HelpOverlay(QtWidgets.QWidget):
         self.setFocusPolicy(Qt.NoFocus)
         self.hide()
 
+    @guarded
     def paintEvent(self, event: QtGui.QPaintEvent) -> None:
         painter = QtGui.QPainter(self)
         font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
@@ -131,6 +135,7 @@ class GLView(QtWidgets.QOpenGLWidget):
             return gd.STATUS_FPS_IDLE
         return gd.STATUS_FPS_FORMAT.format(fps=(len(self.paint_times) - 1) / span)
 
+    @guarded
     def paintGL(self) -> None:
         sim = self.window_.session
         width, height = self.pixel_size()
@@ -142,6 +147,7 @@ class GLView(QtWidgets.QOpenGLWidget):
         self.paint_times.append(time.monotonic())
         self.window_.refresh_status()
 
+    @guarded
     def resizeGL(self, width: int, height: int) -> None:
         # frame the robot for the widget's real shape once it is known (the dock
         # takes part of the window); later resizes leave the user's camera alone
@@ -151,17 +157,21 @@ class GLView(QtWidgets.QOpenGLWidget):
             sim.fit_camera()
             self.framed = True
 
+    @guarded
     def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
         super().resizeEvent(event)
         self.help.resize(self.size())
 
+    @guarded
     def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
         self.drag_pos = event.pos()
         self.setFocus()
 
+    @guarded
     def mouseReleaseEvent(self, event: QtGui.QMouseEvent) -> None:
         self.drag_pos = None
 
+    @guarded
     def mouseMoveEvent(self, event: QtGui.QMouseEvent) -> None:
         if self.drag_pos is None:
             return
@@ -169,6 +179,7 @@ class GLView(QtWidgets.QOpenGLWidget):
         self.drag_pos = event.pos()
         self.window_.drag(delta.x(), delta.y(), event.buttons(), event.modifiers())
 
+    @guarded
     def wheelEvent(self, event: QtGui.QWheelEvent) -> None:
         notches = event.angleDelta().y() / 120.0  # > 0: wheel turned away, zoom in
         self.window_.zoom(gd.WHEEL_ZOOM_FACTOR ** -notches)
@@ -178,7 +189,7 @@ class MainWindow(QtWidgets.QMainWindow):
     """Main window: GL view in the middle, a dock with the robot chooser, one slider per
     joint and the frame list, a status bar.  Keys are dispatched through KEY_BINDINGS."""
 
-    workspace_ready = QtCore.pyqtSignal(int, object)
+    workspace_ready = QtCore.pyqtSignal()
 
     def __init__(self, config: Config) -> None:
         super().__init__()
@@ -187,8 +198,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.pick_panel: PickPanel | None = None
         self.plot_dock: PlotDock | None = None
         self.sliders: list[tuple[QtWidgets.QSlider, QtWidgets.QLabel]] = []
-        self.workspace_token = 0
-        self.workspace_busy = False
+        self.workspace = WorkspaceJob(compute_workspace, self.workspace_ready.emit)
+        self.last_error = ""
         self.last_tick = 0.0
         self.setWindowTitle(PROG)
         self.view = GLView(self)
@@ -196,7 +207,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.timer = QtCore.QTimer(self)
         self.timer.setInterval(gd.ANIM_INTERVAL_MS)
         self.timer.timeout.connect(self.tick)
-        self.workspace_ready.connect(self.on_workspace_ready)
+        self.workspace_ready.connect(self.on_workspace_ready, QtCore.Qt.QueuedConnection)
         self.status = QtWidgets.QLabel()
         self.statusBar().addPermanentWidget(self.status, 1)
         self.build_dock()
@@ -205,7 +216,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.resize(*config.size)
         self.robot_changed()
         if config.workspace:
-            self.start_workspace(config.workspace)
+            self.act_toggle_workspace()
         if config.demo == "circle":
             self.session.toggle_demo()
             self.start_motion()
@@ -295,12 +306,21 @@ class MainWindow(QtWidgets.QMainWindow):
         self.view.update()
 
     def refresh_status(self) -> None:
-        self.status.setText(self.session.status_text(self.view.fps_text()))
+        text = self.session.status_text(self.view.fps_text())
+        if self.workspace.state != IDLE:
+            text += gd.STATUS_WORKSPACE_FORMAT.format(state=self.workspace.state)
+        self.status.setText(text)
+
+    def report_error(self, text: str) -> None:
+        """Show an error caught at the Qt boundary (_qt_guard) in the status bar."""
+        self.last_error = text
+        self.statusBar().showMessage(text, gd.STATUS_ERROR_MS)
 
     def message(self, text: str) -> None:
         self.statusBar().showMessage(text, gd.STATUS_MESSAGE_MS)
 
     # ---- widget callbacks ----
+    @guarded
     def choose_robot(self, name: str) -> None:
         """Switch to robot ``name`` (shipped name or file) without restarting."""
         try:
@@ -313,19 +333,20 @@ class MainWindow(QtWidgets.QMainWindow):
         self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1))
         for flag in ("wireframe", "alpha", "show_vectors"):
             setattr(self.session.options, flag, getattr(previous, flag))
-        self.workspace_token += 1
-        self.workspace_busy = False
+        self.workspace.reset()  # cancels a computation for the previous robot
         self.robot_changed()
         if self.pick_panel is not None:
             self.start_pick()
         self.view.setFocus()
 
+    @guarded
     def slider_moved(self, joint: int, ticks: int) -> None:
         self.timer.stop()
         scale = display_scale(self.session.robot)[joint]
         self.session.set_joint(joint, ticks / self.ticks_per_unit(joint) / scale)
         self.sync_widgets()
 
+    @guarded
     def frame_item_changed(self, item: QtWidgets.QListWidgetItem) -> None:
         """A frame list checkbox: rows 0..n are DH frames, the last the endeffector frame."""
         row, shown = self.frames_list.row(item), item.checkState() == Qt.Checked
@@ -336,6 +357,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.view.update()
 
     # ---- keys: one handler per KEY_BINDINGS action, called with the row's argument ----
+    @guarded
     def keyPressEvent(self, event: QtGui.QKeyEvent) -> None:
         binding = self.key_table.get((int(event.key()), int(event.modifiers()) & _MODIFIER_MASK))
         if binding is None:
@@ -455,6 +477,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.last_tick = time.monotonic()
             self.timer.start()
 
+    @guarded
     def tick(self) -> None:
         now = time.monotonic()
         dt = min(max(now - self.last_tick, 1e-3), 4 * gd.ANIM_INTERVAL_MS / 1000.0)
@@ -525,33 +548,36 @@ class MainWindow(QtWidgets.QMainWindow):
         stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{int(time.time() * 1000) % 1000:03d}"
         stem = Path(self.robot_combo.currentText()).stem
         path = Path.cwd() / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
-        if self.view.grab().save(str(path)):  # the GL picture with the help overlay if shown
-            self.message(f"screenshot saved to {path}")
-        else:
-            self.message(f"could not save screenshot to {path}")
+        buffer = QtCore.QBuffer()
+        buffer.open(QtCore.QIODevice.WriteOnly)
+        self.view.grab().save(buffer, "PNG")  # the GL picture with the help overlay if shown
+        try:
+            write_atomic(path, bytes(buffer.data()))
+        except FileWriteError as exc:
+            self.message(f"could not save screenshot: {exc}")
+            return
+        self.message(f"screenshot saved to {path}")
 
     def act_toggle_workspace(self, _: None = None) -> None:
-        if self.session.workspace is None and not self.workspace_busy:
-            self.start_workspace(self.config.workspace or gd.WORKSPACE_DEFAULT_POINTS)
-        else:
-            self.session.options.show_workspace = not self.session.options.show_workspace
+        """E: compute the cloud (in the background), cancel a computation, or show/hide
+        the finished cloud (workspace_job.WorkspaceJob.toggle)."""
+        self.workspace.toggle(self.session.robot, self.config.workspace or gd.WORKSPACE_DEFAULT_POINTS)
+        self.show_workspace_state()
 
-    def start_workspace(self, n_points: int) -> None:
-        """Compute the workspace cloud in a background thread (numpy releases the GIL)."""
-        self.workspace_busy = True
-        self.session.options.show_workspace = True
-        token, robot = self.workspace_token, self.session.robot
-        self.message(f"computing workspace ({n_points} points) ...")
+    @guarded
+    def on_workspace_ready(self) -> None:
+        """The worker ended (queued from its thread): take its outcome if still wanted."""
+        if self.workspace.collect():
+            self.show_workspace_state()
 
-        def work() -> None:
-            self.workspace_ready.emit(token, compute_workspace(robot, n_points))
-
-        threading.Thread(target=work, name="workspace", daemon=True).start()
-
-    def on_workspace_ready(self, token: int, cloud: Any) -> None:
-        if token != self.workspace_token:
-            return  # computed for a robot that is no longer shown
-        self.workspace_busy = False
-        self.session.workspace = cloud
-        self.message(f"workspace: {len(cloud.points)} points")
+    def show_workspace_state(self) -> None:
+        """Make the session, the status bar and the picture follow the job's state."""
+        job = self.workspace
+        self.session.workspace = job.cloud if job.state in (SHOWN, HIDDEN) else None
+        self.session.options.show_workspace = job.state in (SHOWN, COMPUTING)
+        if job.state == FAILED:
+            self.report_error(job.message)
+        elif job.message:
+            self.message(job.message)
+        self.refresh_status()
         self.view.update()
