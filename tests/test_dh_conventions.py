@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from dh_convert import to_convention, to_modified, to_standard
 from dynamics import gravity_torque, mass_matrix
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, h_rot_x, h_rot_z, h_trans, random_dh_robot, random_q, robot
-from kinematics import forward_kinematics, jacobian
+from kinematics import forward_kinematics, jacobian, solve_ik, workspace_points
 from robot_defs import JTYPE_REVOLUTE, RobotParams
 from transforms import HomogeneousTransform
 
@@ -176,3 +176,19 @@ def test_shipped_robots_convert_exactly(name):
     expected = forward_kinematics(rob, Q)
     for conv in CONVENTIONS:
         np.testing.assert_allclose(forward_kinematics(robot(name, conv), Q), expected, atol=1e-12, rtol=0)
+
+
+@pytest.mark.parametrize("name", ["stanford", "panda", "scara"])
+def test_workspace_and_ik_agree_across_conventions(name):
+    """Same seed, same samples: the workspace cloud and its manipulability are the same
+    for both tables of one arm; IK from home reaches the same target in both."""
+    tables = [robot(name, conv) for conv in CONVENTIONS]
+    (p_std, m_std), (p_mod, m_mod) = (workspace_points(t, 3000, seed=7) for t in tables)
+    np.testing.assert_allclose(p_mod, p_std, atol=1e-12)
+    np.testing.assert_allclose(m_mod, m_std, rtol=1e-9, atol=1e-12)
+    target = forward_kinematics(tables[0], random_q(tables[0], np.random.default_rng(43)))
+    for table in tables:
+        result = solve_ik(table, target)
+        assert result.success, result.message
+        reached = forward_kinematics(table, result.q)
+        assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) <= 1e-6
