@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from typing import Callable
 
+import numpy as np
 import pyqtgraph as pg
 from PyQt5 import QtWidgets
+from numpy.typing import NDArray
 from PyQt5.QtCore import Qt
 
 import graphics_defs as gd
@@ -14,8 +16,9 @@ from trajectory import Trajectory
 
 
 class PlotDock(QtWidgets.QDockWidget):
-    """One plot per row of ``PLOT_ROWS`` (q, qd, qdd), one curve per joint, x = time [s],
-    and a vertical cursor line at the current time in each."""
+    """One plot per row of ``PLOT_ROWS`` (q, qd, qdd, and the joint effort of a simulated
+    run), one curve per joint, x = time [s], and a vertical cursor line at the current
+    time in each.  The effort row is shown only when there is an effort to plot."""
 
     def __init__(self, parent: QtWidgets.QWidget) -> None:
         super().__init__("Joint plots", parent)
@@ -35,16 +38,23 @@ class PlotDock(QtWidgets.QDockWidget):
             plot.addItem(cursor)
             self.plots[key], self.cursors[key] = plot, cursor
         self.plots[gd.PLOT_ROWS[-1][0]].setLabel("bottom", "time", units="s")
+        self.plots["effort"].setVisible(False)
         self.curves: dict[str, list[pg.PlotDataItem]] = {key: [] for key in self.plots}
         self.setWidget(self.graphics)
         self.setMinimumHeight(gd.PLOT_DOCK_MIN_HEIGHT)
 
-    def show_trajectory(self, traj: Trajectory) -> None:
-        """Plot q, q̇, q̈ of ``traj`` against its time, one colour per joint."""
+    def show_trajectory(self, traj: Trajectory, effort: NDArray[np.float64] | None = None) -> None:
+        """Plot q, q̇, q̈ of ``traj`` and, if given, ``effort`` (N, n) against its time, one
+        colour per joint."""
+        series = {"q": traj.q, "qd": traj.qd, "qdd": traj.qdd, "effort": effort}
+        self.plots["effort"].setVisible(effort is not None)
         for key, plot in self.plots.items():
             for curve in self.curves[key]:
                 plot.removeItem(curve)
-            data = getattr(traj, key)
+            data = series[key]
+            if data is None:
+                self.curves[key] = []
+                continue
             self.curves[key] = [
                 plot.plot(traj.t, data[:, j], pen=pg.mkPen(gd.PLOT_JOINT_COLORS[j % len(gd.PLOT_JOINT_COLORS)]),
                           name=f"joint {j + 1}")

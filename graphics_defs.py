@@ -318,7 +318,7 @@ PICK_DOCK_TITLE_PX = 24                    # room for the playback dock's title 
 
 # Plot dock (pyqtgraph): one row per quantity, one curve per joint
 PLOT_ROWS = (("q", "position", "rad | m"), ("qd", "velocity", "rad/s | m/s"),
-             ("qdd", "acceleration", "rad/s² | m/s²"))
+             ("qdd", "acceleration", "rad/s² | m/s²"), ("effort", "effort", "N·m | N"))
 PLOT_JOINT_COLORS = ("#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf")
 PLOT_BACKGROUND = "w"
 PLOT_CURSOR_COLOR = "k"

@@ -26,9 +26,12 @@ def plan_for(robot: RobotParams, task_path: str | Path | None = None) -> TaskPla
 @dataclass
 class PickDemo:
     """A task being played: ``time`` [s] within the plan, ``speed`` (1 = real time),
-    ``playing``.  Playback stops at the end; seeking past the end shows the final scene."""
+    ``playing``.  Playback stops at the end; seeking past the end shows the final scene.
+    ``effort`` (N, n) holds the joint efforts of a simulated run (whose motion is then
+    the plan's trajectory), None for the kinematic plan."""
 
     plan: TaskPlan
+    effort: np.ndarray | None = None
     time: float = 0.0
     speed: float = 1.0
     playing: bool = True

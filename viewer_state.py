@@ -253,11 +253,12 @@ class ViewerSession:
             self.step_animation(dt)
 
     # ---- pick demo (planned task, scrubbed or played) ----
-    def start_pick(self, plan: TaskPlan, time: float = 0.0) -> None:
+    def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None) -> None:
         """Show the pick task ``plan`` at ``time`` s (past the end: the final scene),
-        playing unless at the end; stops the circle demo and hides the IK target."""
+        playing unless at the end; stops the circle demo and hides the IK target.
+        ``effort`` (N, n): the joint efforts when ``plan`` holds a simulated run."""
         self.demo, self.target_tf, self.ik_result = None, None, None
-        self.pick = PickDemo(plan)
+        self.pick = PickDemo(plan, effort)
         self.show_pick_at(time)
         self.pick.playing = self.pick.time < self.pick.duration
         self.fit_camera()

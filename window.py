@@ -499,7 +499,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.addDockWidget(Qt.BottomDockWidgetArea, self.pick_panel)
             self.splitDockWidget(self.plot_dock, self.pick_panel, Qt.Vertical)
             self.resizeDocks([self.plot_dock], [round(self.height() * gd.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
-        self.plot_dock.show_trajectory(self.session.pick.plan.trajectory)
+        self.plot_dock.show_trajectory(self.session.pick.plan.trajectory, self.session.pick.effort)
         self.sync_pick()
         self.start_motion()
 
@@ -522,12 +522,15 @@ class MainWindow(QtWidgets.QMainWindow):
         self.show_pick()
 
     def act_toggle_pick(self, _: None = None) -> None:
-        """Start the pick demo, or play / pause it."""
-        if self.session.pick is None:
-            self.start_pick()
-        else:
-            self.session.pick.toggle()
-            self.start_motion()
+        """Start the pick demo, or play / pause it (also the Play button's handler)."""
+        try:
+            if self.session.pick is None:
+                self.start_pick()
+            else:
+                self.session.pick.toggle()
+                self.start_motion()
+        except Exception as exc:  # noqa: BLE001 - an exception escaping a Qt handler aborts PyQt
+            self.message(f"pick demo: {exc}")
         self.sync_widgets()
 
     def seek_pick(self, t: float) -> None:

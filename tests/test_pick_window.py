@@ -8,6 +8,7 @@ import pytest
 import graphics_defs as gd
 from test_window import app, open_window  # noqa: F401 - the QApplication fixture
 
+from PyQt5.QtGui import QColor, QImage  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 
 pytestmark = pytest.mark.window
@@ -26,15 +27,20 @@ def test_plot_dock_shows_the_trajectory(pick_window):
     traj = win.session.pick.plan.trajectory
     dock = win.plot_dock
     assert dock.isVisible()
-    for key, _, _ in gd.PLOT_ROWS:
+    assert not dock.plots["effort"].isVisible() and not dock.curves["effort"]  # kinematic: no effort
+    for key in ("q", "qd", "qdd"):
         curves = dock.curves[key]
         assert len(curves) == traj.n_dofs
         for j, curve in enumerate(curves):
             np.testing.assert_array_equal(curve.xData, traj.t)
             np.testing.assert_array_equal(curve.yData, getattr(traj, key)[:, j])
-    # the plot widget really painted curves: its picture is not blank background
-    image = dock.graphics.grab().toImage()
-    assert image.width() > 100 and image.height() > 100
+    # the plot widget really painted the curves: pixels of each joint's colour
+    image = dock.graphics.grab().toImage().convertToFormat(QImage.Format_RGB888)
+    pixels = np.frombuffer(image.constBits().asstring(image.byteCount()), np.uint8)
+    pixels = pixels.reshape(image.height(), image.bytesPerLine())[:, : 3 * image.width()].reshape(image.height(), -1, 3)
+    for j in range(traj.n_dofs):
+        rgb = QColor(gd.PLOT_JOINT_COLORS[j]).getRgb()[:3]
+        assert np.count_nonzero(np.all(np.abs(pixels.astype(int) - rgb) <= 40, axis=2)) > 20, f"joint {j + 1}"
 
 
 def test_slider_scrubs_the_scene_and_moves_the_cursor(pick_window):
