@@ -134,10 +134,12 @@ class RobotLook:
 
 @functools.lru_cache(maxsize=64)
 def robot_look(robot: RobotParams) -> RobotLook:
-    """The part sizes of ``robot``: each joint sized from the longer of the two links
-    meeting at it (``JOINT_RADIUS_LOCAL_FRAC``), clamped to [``JOINT_RADIUS_MIN_FRAC``,
-    ``JOINT_RADIUS_MAX_FRAC``] of the reach, then shrunk at home until its bounding
-    sphere keeps ``JOINT_CLEARANCE`` of the distance to any other joint; a joint near the
+    """The part sizes of ``robot``: each joint sized from the link it moves, or a
+    fraction ``JOINT_INCOMING_WEIGHT`` of the link it sits on if that is more
+    (``JOINT_RADIUS_LOCAL_FRAC``), clamped to [``JOINT_RADIUS_MIN_FRAC``,
+    ``JOINT_RADIUS_MAX_FRAC``] of the reach, then shrunk at home until its radius is at
+    most ``JOINT_CLEARANCE`` of the distance to any other joint (two joints' cylinders
+    may cross, neither swallows the other); a joint near the
     endeffector and the endeffector sphere shrink together until they do not meet (an
     endeffector sitting in a joint is drawn a little wider than the joint instead, and
     the joint a little longer, so both show)."""
@@ -147,7 +149,7 @@ def robot_look(robot: RobotParams) -> RobotLook:
     seg = dh_segments(home[:-1], robot.is_modified)
     travel_start, stroke = _prismatic_travel(robot, reach)
     link_length = np.abs(seg.d) + np.abs(seg.a) + stroke
-    local = np.maximum(link_length, np.r_[0.0, link_length[:-1]])
+    local = np.maximum(link_length, gd.JOINT_INCOMING_WEIGHT * np.r_[0.0, link_length[:-1]])
     radius = np.clip(gd.JOINT_RADIUS_LOCAL_FRAC * local, gd.JOINT_RADIUS_MIN_FRAC * reach, gd.JOINT_RADIUS_MAX_FRAC * reach)
     half = gd.JOINT_HALF_LENGTH_RATIO * radius
     bound = np.hypot(radius, half)
@@ -155,7 +157,7 @@ def robot_look(robot: RobotParams) -> RobotLook:
     centres, endeff = seg.joint, home[-1, :3, 3]
     gaps = np.linalg.norm(centres[:, None] - centres[None], axis=-1)
     gaps[gaps <= gd.MIN_LINK_LENGTH] = np.inf  # joints at one point (a wrist) cross each other
-    shrink = np.minimum(1.0, gd.JOINT_CLEARANCE * gaps.min(axis=1) / bound)
+    shrink = np.minimum(1.0, gd.JOINT_CLEARANCE * gaps.min(axis=1) / radius)
     radius, half, bound = radius * shrink, half * shrink, bound * shrink
 
     endeff_radius = max(gd.ENDEFF_RADIUS_RATIO * float(radius[-1]) if n else 0.0, gd.ENDEFF_MIN_FRAC * reach)

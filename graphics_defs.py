@@ -19,14 +19,15 @@ REACH_MIN = 0.01              # a robot smaller than this (a degenerate one) is 
 REACH_MAX = 20.0              # a robot larger than this is drawn at this scale
 
 # --- robot part sizes -------------------------------------------------------------
-# Each joint's size follows the links that meet at it (the longer of the two, its
+# Each joint's size follows the link it moves (or a part of the link it sits on, its
 # "local length"), clamped to fractions of the robot's reach; then, with the arm at
 # home, every joint is shrunk until it clears its neighbours and the endeffector.
+JOINT_INCOMING_WEIGHT = 0.35     # local length = max(link moved, this * link carrying the joint)
 JOINT_RADIUS_LOCAL_FRAC = 0.14   # joint cylinder radius, fraction of its local length ...
 JOINT_RADIUS_MIN_FRAC = 0.012    # ... at least this fraction of the reach ...
 JOINT_RADIUS_MAX_FRAC = 0.035    # ... at most this one
 JOINT_HALF_LENGTH_RATIO = 1.4    # revolute cylinder half length along its axis / its radius
-JOINT_CLEARANCE = 0.45           # a joint's bounding sphere <= this * distance to the next joint
+JOINT_CLEARANCE = 0.5            # a joint's radius <= this * the distance to the nearest other joint
 PART_MIN_FRAC = 0.003            # no part radius below this fraction of the reach
 LINK_RADIUS_RATIO = 0.5          # link cylinder radius / the smaller joint radius at its ends
 ENDEFF_RADIUS_RATIO = 1.2        # endeffector sphere radius / the last joint's radius
