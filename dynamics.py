@@ -223,6 +223,17 @@ class _DynModel:
         self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
         self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
         self.kernels: dict = {}  # compiled straight-line kernels, see _compile
+        self.base_rotation = robot.base_tf.R().copy()
+        self._gravity: tuple = ((0.0, 0.0, -9.81), None)  # last (world gravity, in frame 0)
+
+    def gravity_in_frame0(self, robot: RobotParams, gravity: ArrayLike) -> tuple[float, float, float]:
+        """World gravity [m/s²] in frame 0 (the last one is kept: it rarely changes)."""
+        if not (isinstance(gravity, tuple) and gravity == self._gravity[0] and self._gravity[1] is not None):
+            g0 = tuple(float(v) for v in self.base_rotation.T @ _check_gravity(gravity))
+            if not isinstance(gravity, tuple):  # an array may change in place: not kept
+                return g0
+            self._gravity = (gravity, g0)
+        return self._gravity[1]
 
     # -- geometry of joint j at joint values (arrays of one chunk) ----------------------
     def offset(self, j: int, qj: Scalar) -> Vec:
@@ -565,11 +576,11 @@ def _joint_array(robot: RobotParams, value: ArrayLike, name: str, like: FloatArr
     return arr
 
 
-def _gravity_in_frame0(robot: RobotParams, gravity: ArrayLike) -> FloatArray:
+def _check_gravity(gravity: ArrayLike) -> FloatArray:
     g = np.asarray(gravity, dtype=float)
     if g.shape != (3,) or not np.isfinite(g).all():
         raise ValueError(f"gravity must be a finite (3,) vector in m/s^2, got {gravity!r}")
-    return robot.base_tf.R().T @ g
+    return g
 
 
 def _tool_wrench_in_last_frame(robot: RobotParams, Q: FloatArray, f_tool: ArrayLike) -> FloatArray:
@@ -620,8 +631,9 @@ def _joint_inputs(model: _DynModel, QT: FloatArray) -> tuple[list[Scalar], list[
     return cos, sin, q
 
 
-def _rate_inputs(X: FloatArray | None) -> FloatArray | list[float] | None:
-    return None if X is None else (X[:, 0].tolist() if X.shape[1] == 1 else X)
+def _rate_inputs(X: FloatArray | None) -> list[float] | None:
+    """Rates of one configuration (n, 1) as Python floats."""
+    return None if X is None else X[:, 0].tolist()
 
 
 def _rnea(
@@ -634,22 +646,23 @@ def _rnea(
 ) -> FloatArray:
     """τ (n, N) by RNEA, drive terms included, for Q etc. of shape (N, n) (None: zero)."""
     model = _model(robot)
-    g0 = tuple(float(v) for v in _gravity_in_frame0(robot, gravity))
+    g0 = model.gravity_in_frame0(robot, gravity)
     wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
     kernel = _kernel(model, "rnea", g0, (QD is not None, QDD is not None), wrench is not None)
     QT, QDT, QDDT = _rows(Q), _rows(QD), _rows(QDD)
-    tau = np.empty(QT.shape)
-    for s in range(0, QT.shape[1], CHUNK):
-        sl = slice(s, s + CHUNK)
-        cos, sin, q = _joint_inputs(model, QT[:, sl])
-        rates = [_rate_inputs(None if X is None else X[:, sl]) for X in (QDT, QDDT)]
-        ext = None if wrench is None else _rate_inputs(wrench[:, sl])
-        values = kernel(cos, sin, q, rates[0], rates[1], ext)
-        if QT.shape[1] == 1:
-            tau[:, 0] = values
-            continue
-        for j, value in enumerate(values):
-            tau[j, sl] = value
+    if QT.shape[1] == 1:  # one configuration: Python floats throughout
+        cos, sin, q = _joint_inputs(model, QT)
+        ext = None if wrench is None else _rate_inputs(wrench)
+        tau = np.array(kernel(cos, sin, q, _rate_inputs(QDT), _rate_inputs(QDDT), ext))[:, None]
+    else:
+        tau = np.empty(QT.shape)
+        for s in range(0, QT.shape[1], CHUNK):
+            sl = slice(s, s + CHUNK)
+            cos, sin, q = _joint_inputs(model, QT[:, sl])
+            rates = [None if X is None else X[:, sl] for X in (QDT, QDDT)]
+            ext = None if wrench is None else wrench[:, sl]
+            for j, value in enumerate(kernel(cos, sin, q, rates[0], rates[1], ext)):
+                tau[j, sl] = value
     drive = _drive_torque(model, QDT, QDDT)
     if drive is not None:
         tau += drive
@@ -824,9 +837,7 @@ def energy(
     """(kinetic, potential) energy [J]: ½ q̇ᵀ M q̇ (motor inertia included) and
     −Σ m_k g·c_k with the COMs c_k in the world (zero at the world origin's height)."""
     single, (Q, QD) = _arguments(robot, q, qd=qd)
-    g = np.asarray(gravity, dtype=float)
-    if g.shape != (3,) or not np.isfinite(g).all():
-        raise ValueError(f"gravity must be a finite (3,) vector in m/s^2, got {gravity!r}")
+    g = _check_gravity(gravity)
     M = mass_matrix(robot, Q)
     kinetic = 0.5 * np.einsum("ni,nij,nj->n", QD, M, QD)
     n = robot.n_dofs
