@@ -26,7 +26,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from dh_convert import to_modified
-from robot_defs import JTYPE_REVOLUTE, RobotParams
+from robot_defs import MAX_LENGTH, JTYPE_REVOLUTE, RobotParams
 from transforms import EPS_NORM, dh_transform, rotations_z_onto, rpy_from_rot
 
 #: Export geometry (metres): cylinder radius and length of a joint, radius of a link.
@@ -34,7 +34,7 @@ URDF_JOINT_RADIUS = 0.04
 URDF_JOINT_LENGTH = 0.1
 URDF_LINK_RADIUS = 0.025
 #: Stroke (m) written for a prismatic joint without limits (URDF requires limits there).
-URDF_UNLIMITED_STROKE = 1.0e6
+URDF_UNLIMITED_STROKE = MAX_LENGTH  # the longest stroke a robot file (and load_robot) accepts
 
 
 def _num(values: float | np.ndarray) -> str:

@@ -318,7 +318,9 @@ def load_robot(
     if path.suffix.lower() == ".urdf":
         from urdf import load_urdf  # urdf builds on this module
 
-        return load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD)
+        robot = load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD)
+        check_bounds(robot, path)
+        return robot
     if tip is not None:
         raise ValueError(f"tip applies to URDF files only; {path} is a robot file")
     robot = _load_toml(path)
@@ -327,6 +329,33 @@ def load_robot(
     from dh_convert import to_convention  # dh_convert builds on this module
 
     return to_convention(robot, convention)
+
+
+def check_bounds(robot: RobotParams, path: Path | str) -> None:
+    """RobotDefinitionError starting with ``path`` unless ``robot`` keeps the bounds of a
+    robot file (MAX_JOINTS joints; lengths, prismatic limits and base and tool offsets
+    within ±MAX_LENGTH; revolute limits within ±MAX_ANGLE_DEG).  For robots built from
+    other sources (URDF), whose values the TOML checks never saw."""
+    if robot.n_dofs > MAX_JOINTS:
+        raise RobotDefinitionError(f"{path}: {robot.n_dofs} joints; at most {MAX_JOINTS} are accepted")
+    max_angle = math.radians(MAX_ANGLE_DEG)
+    revolute = robot.jtype == JTYPE_REVOLUTE
+    checks = [("a", robot.dh_a, MAX_LENGTH), ("d", robot.dh_d, MAX_LENGTH)]
+    for name, values in (("lower limit", robot.q_min), ("upper limit", robot.q_max)):
+        finite = np.where(np.isfinite(values), values, 0.0)
+        checks.append((name, np.where(revolute, finite / max_angle, finite / MAX_LENGTH), 1.0))
+    for what, values, limit in checks:
+        bad = np.flatnonzero(~(np.abs(values) <= limit))
+        if bad.size:
+            i = int(bad[0])
+            raise RobotDefinitionError(
+                f"{path}: joint {i + 1}: {what} beyond the accepted ±{MAX_LENGTH:g} m (lengths) "
+                f"or ±{MAX_ANGLE_DEG:g} deg (angles)"
+            )
+    for what, tf in (("base", robot.base_tf), ("tool", robot.endeff_tf)):
+        offset = float(np.abs(tf.mat[:3, 3]).max())
+        if not offset <= MAX_LENGTH:
+            raise RobotDefinitionError(f"{path}: {what} offset {offset:g} m beyond the accepted ±{MAX_LENGTH:g} m")
 
 
 def _load_toml(path: Path) -> RobotParams:

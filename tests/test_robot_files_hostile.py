@@ -253,3 +253,31 @@ def test_from_arrays_rejects_bad_values(kwargs, message):
 def test_from_arrays_still_builds_programmatic_robots():
     robot = RobotParams.from_arrays("p", [1e4, 0.0], [0.0, 0.0], [0.0, 0.0], [0.0, 0.0], [JTYPE_REVOLUTE, JTYPE_PRISMATIC])
     assert robot.n_dofs == 2 and robot.jtype.tolist() == [JTYPE_REVOLUTE, JTYPE_PRISMATIC]
+
+
+# ------------------------------------------------------------------ URDF robots keep the same bounds
+
+URDF = """<?xml version="1.0"?>
+<robot name="u">
+  <link name="l0"/><link name="l1"/><link name="l2"/>
+  <joint name="j1" type="revolute">
+    <parent link="l0"/><child link="l1"/>
+    <origin xyz="{base}" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/>
+  </joint>
+  <joint name="j2" type="prismatic">
+    <parent link="l1"/><child link="l2"/>
+    <origin xyz="0.3 0 0.2" rpy="0 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="{upper}" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_urdf_robots_keep_the_bounds(tmp_path):
+    good = write(tmp_path, URDF.format(base="0 0 0.1", upper="0.5"), "good.urdf")
+    assert load_robot(good).n_dofs == 2
+    path = write(tmp_path, URDF.format(base="0 0 0.1", upper="1e300"), "slide.urdf")
+    assert error_of(path) == f"{path}: joint 2: upper limit beyond the accepted ±1000 m (lengths) or ±1800 deg (angles)"
+    path = write(tmp_path, URDF.format(base="0 0 5000", upper="0.5"), "base.urdf")
+    assert error_of(path) == f"{path}: base offset 5000.2 m beyond the accepted ±1000 m"
