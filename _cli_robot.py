@@ -16,6 +16,7 @@ from dh_convert import to_convention
 from fileio import write_atomic
 from robot_defs import CONVENTIONS, JTYPE_REVOLUTE, RobotDefinitionError, RobotParams, available_robots, load_robot
 from robot_writer import to_toml
+from transforms import HomogeneousTransform
 from urdf import to_urdf
 
 #: Column headings of the DH table per convention: (a, α) of row i name a different link.
@@ -58,7 +59,7 @@ def _g(value: float) -> str:
     return f"{value + 0.0:.6g}" if math.isfinite(value) else ("inf" if value > 0 else "-inf")
 
 
-def _frame_text(tf) -> str:
+def _frame_text(tf: HomogeneousTransform) -> str:
     roll, pitch, yaw = (math.degrees(v) for v in tf.rpy())
     return f"xyz [{', '.join(_g(v) for v in tf.t())}] m, rpy [{_g(roll)}, {_g(pitch)}, {_g(yaw)}] deg"
 

@@ -340,7 +340,18 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
         raise RobotDefinitionError(f"{path}: {reason}") from None
     name, names, joints, link_inertials = _parse(text, path)
     chain = _chain(path, names, joints, tip)
+    try:
+        with np.errstate(all="ignore"):  # absurd numbers end as a refused value, not a warning
+            robot = _build(path, name, chain, link_inertials)
+    except RobotDefinitionError:
+        raise
+    except ValueError as exc:  # values RobotParams or LinkInertials refuse (non-physical inertia, ...)
+        raise RobotDefinitionError(f"{path}: {exc}") from None
+    return to_convention(_with_source(robot, path, chain), convention)
 
+
+def _build(path: Path, name: str, chain: list[_Joint], link_inertials: dict[str, _Inertial | None]) -> RobotParams:
+    """The modified DH robot of a checked chain (root frame at q = 0)."""
     running = np.eye(4)
     points, axes, joint_x, moving = [], [], [], []
     parts: list[list[tuple[float, np.ndarray, np.ndarray]]] = []  # per body, in the root frame
@@ -358,6 +369,11 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
             parts[-1].append((inertial.mass, pose[:3, 3], pose[:3, :3] @ inertial.inertia @ pose[:3, :3].T))
     tip_pose = running
     frames = _dh_frames(np.array(points), np.array(axes), np.array(joint_x))
+    if not (np.isfinite(frames).all() and np.isfinite(tip_pose).all()):
+        raise RobotDefinitionError(
+            f"{path}: the joint origins add up to positions beyond floating point (inf or NaN); "
+            "lengths must be metres of a real arm"
+        )
     n = len(moving)
     rows = [(0.0, 0.0, 0.0, 0.0)] + [_modified_row(np.linalg.inv(frames[i - 1]) @ frames[i]) for i in range(1, n)]
     a, alpha, theta, d = (np.array(col) for col in zip(*rows))
@@ -365,7 +381,7 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
     jtype = [MOVING_TYPES[j.kind] for j in moving]
     lo = np.array([j.lower for j in moving])
     hi = np.array([j.upper for j in moving])
-    robot = RobotParams.from_arrays(
+    return RobotParams.from_arrays(
         name, a, alpha, d, theta, jtype,
         q_home=np.clip(0.0, lo, hi), q_min=lo, q_max=hi,
         base_tf=HomogeneousTransform(frames[0]),
@@ -374,8 +390,6 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
         inertials=_body_inertials(parts, frames),
         drives=_drives(moving),
     )
-    robot = _with_source(robot, path, chain)
-    return to_convention(robot, convention)
 
 
 def _body_inertials(parts: list[list[tuple[float, np.ndarray, np.ndarray]]], frames: np.ndarray) -> LinkInertials | None:

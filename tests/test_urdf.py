@@ -308,6 +308,17 @@ BAD_URDFS = {
         f'{joint()}</robot>',
         "link 'b' inertial mass: the mass is negative: -1.0",
     ),
+    "non-physical inertia": (
+        '<robot name="x"><link name="a"/><link name="b"><inertial><mass value="1"/>'
+        '<inertia ixx="1" iyy="0" izz="0" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+        f'{joint(kind="continuous", extra="")}</robot>',
+        "inertia of link 1 principal moments [0, 0, 1] violate the triangle inequality (1 > 0 + 0)",
+    ),
+    "overflowing origins": (
+        f'<robot name="x">{LINKS}{joint(kind="continuous", extra=chr(60) + "origin xyz=" + chr(34) + "1e308 1e308 0" + chr(34) + "/>")}'
+        f'{joint(name="k", kind="continuous", parent="b", child="c", extra=chr(60) + "origin xyz=" + chr(34) + "1e308 0 1e308" + chr(34) + "/>")}</robot>',
+        "the joint origins add up to positions beyond floating point (inf or NaN)",
+    ),
     "duplicate link": ('<robot name="x"><link name="a"/><link name="a"/></robot>', "link 'a': every <link> needs a unique non-empty name"),
 }
 
