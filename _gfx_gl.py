@@ -125,9 +125,9 @@ def gl_state(preset: str, *, wireframe: bool = False) -> Iterator[None]:
         for cap in spec["disable"]:
             GL.glDisable(getattr(GL, f"GL_{cap}"))
         GL.glDepthMask(GL.GL_TRUE if spec["depth_mask"] else GL.GL_FALSE)
-        if spec["blend"] is not None:
+        if spec["blend"] is not None:  # colour blends; the framebuffer's alpha stays 1 (opaque pictures)
             src, dst = spec["blend"]
-            GL.glBlendFunc(getattr(GL, f"GL_{src}"), getattr(GL, f"GL_{dst}"))
+            GL.glBlendFuncSeparate(getattr(GL, f"GL_{src}"), getattr(GL, f"GL_{dst}"), GL.GL_ZERO, GL.GL_ONE)
         GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_LINE if wireframe else GL.GL_FILL)
         yield
     finally:

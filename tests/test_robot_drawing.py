@@ -420,3 +420,15 @@ def test_an_annotated_joint_number_out_of_range_draws_nothing(render: Frames) ->
         assert np.array_equal(render(camera, go.Scene(kin), options), plain)
     with pytest.raises(ValueError, match="annotate_joint: expected a joint number 1..3, got 4"):
         go.dh_annotation(kin.frames, 4, False, 0.1)
+
+
+def test_pictures_are_opaque_where_translucent_parts_blend(render: Frames) -> None:
+    """The floor, the ghost and a translucent arm blend their colours only: every pixel
+    keeps alpha 255, so PNGs and the window's grab() show what the view shows."""
+    kin = posed("puma560", [10 * DEG, 30 * DEG, -60 * DEG, 20 * DEG, 40 * DEG, 0.0])
+    ghost = posed("puma560", [40 * DEG, 10 * DEG, -30 * DEG, 0.0, 0.0, 0.0])
+    options = options_for(kin)
+    options.toggle_alpha()
+    camera = framed(np.vstack([key_points(kin), key_points(ghost)]))
+    image = render(camera, go.Scene(kin, ghost=ghost), options)
+    assert image[..., 3].min() == 255
