@@ -194,6 +194,8 @@ def test_published_values_spot_checks():
     np.testing.assert_array_equal(puma.inertials.com[1], [-0.3638, 0.006, 0.2275])
     np.testing.assert_array_equal(puma.drives.gear_ratio, [-62.6111, 107.815, -53.7063, 76.0364, 71.923, 76.686])
     np.testing.assert_array_equal(puma.drives.coulomb[0], [0.395, -0.435])
+    np.testing.assert_array_equal(puma.drives.effort_limit, [97.6, 186.4, 89.4, 24.2, 20.1, 21.3])
+    np.testing.assert_array_equal(puma.drives.velocity_limit, [1.92, 1.51, 2.40, 5.34, 5.09, 5.74])
     # Stanford: COMs inside the arm (unit slips of public copies corrected), Jm at the joint
     assert np.abs(stanford.inertials.com).max() < 0.7
     np.testing.assert_array_equal(stanford.drives.motor_inertia, [0.953, 2.193, 0.782, 0.106, 0.097, 0.020])
