@@ -19,7 +19,9 @@ class Camera:
 
     The eye sits at ``target + distance * (cos(el) cos(az), cos(el) sin(az), sin(el))``
     with azimuth ``az`` measured about world z from +x and elevation ``el`` above the
-    xy plane.  ``fov_deg`` is the vertical field of view.  :meth:`reset` returns to the
+    xy plane.  ``fov_deg`` is the vertical field of view; with ``orthographic`` the
+    projection is parallel, at the scale the perspective one has in the plane through
+    the target (so toggling keeps the target's surroundings the same size).  :meth:`reset` returns to the
     values the camera was constructed with.
     """
 
@@ -28,6 +30,7 @@ class Camera:
     elevation_deg: float = gd.CAMERA_ELEVATION_DEG
     target: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
     fov_deg: float = gd.CAMERA_FOV_DEG
+    orthographic: bool = False
     _home: tuple[float, float, float, NDArray[np.float64], float] = field(
         init=False, repr=False, compare=False
     )
@@ -54,6 +57,12 @@ class Camera:
         clamped to ±``CAMERA_MAX_ELEVATION_DEG`` (short of the poles)."""
         self.azimuth_deg = (self.azimuth_deg + d_az_deg + 180.0) % 360.0 - 180.0
         self.elevation_deg = self._clamp_elevation(self.elevation_deg + d_el_deg)
+
+    def set_view(self, azimuth_deg: float, elevation_deg: float) -> None:
+        """Look at the target from the given direction (degrees; elevation clamped like
+        :meth:`orbit`), keeping target and distance: the view presets."""
+        self.azimuth_deg = (float(azimuth_deg) + 180.0) % 360.0 - 180.0
+        self.elevation_deg = self._clamp_elevation(elevation_deg)
 
     def zoom(self, factor: float) -> None:
         """Multiply the distance by ``factor`` (< 1 moves closer, > 1 farther), clamped to
@@ -120,14 +129,24 @@ class Camera:
         return view
 
     def projection_matrix(self, aspect: float) -> NDArray[np.float64]:
-        """Perspective projection (4, 4) eye -> clip for ``aspect`` = width / height.
+        """Projection (4, 4) eye -> clip for ``aspect`` = width / height.
 
-        Near and far planes follow the distance (``CAMERA_NEAR_FRAC``, ``CAMERA_FAR_FRAC``,
-        ``CAMERA_FAR_MARGIN``) so depth precision stays good at any zoom."""
+        Perspective: near and far planes follow the distance (``CAMERA_NEAR_FRAC``,
+        ``CAMERA_FAR_FRAC``, ``CAMERA_FAR_MARGIN``) so depth precision stays good at any
+        zoom.  Orthographic: a box ``distance * tan(fov / 2)`` high either side of the
+        view axis, reaching as far behind the eye as in front (nothing is cut off when
+        zoomed in; depth is linear)."""
         near = self.distance * gd.CAMERA_NEAR_FRAC
         far = self.distance * gd.CAMERA_FAR_FRAC + gd.CAMERA_FAR_MARGIN
         f = 1.0 / math.tan(math.radians(self.fov_deg) / 2.0)
         proj = np.zeros((4, 4))
+        if self.orthographic:
+            scale = f / self.distance
+            proj[0, 0] = scale / max(aspect, 1e-9)
+            proj[1, 1] = scale
+            proj[2, 2] = -1.0 / far
+            proj[3, 3] = 1.0
+            return proj
         proj[0, 0] = f / max(aspect, 1e-9)
         proj[1, 1] = f
         proj[2, 2] = (far + near) / (near - far)

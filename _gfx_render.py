@@ -22,6 +22,7 @@ from _gfx_drawables import (
 )
 from _gfx_robot import part_corners, robot_look, robot_parts, robot_reach
 from _gfx_gl import GL, context_key, gl_matrix
+from _gfx_trail import TrailGraphics
 from _gfx_resources import resources
 from _gfx_scene import GraphicsOptions, Scene
 from _gfx_task import TaskGraphics, task_points
@@ -104,6 +105,8 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
         robot.draw()
     base_xy = kin.frames[0, :2, 3]
     ground_for(reach, float(base_xy[0]), float(base_xy[1])).draw()
+    if scene.trail is not None:
+        TrailGraphics(scene.trail).draw()
     if options.show_ghost and scene.ghost is not None:
         ghost = robot_item(scene.ghost, ghost=True)
         ghost.reference, ghost.wireframe, ghost.show_com = robot, options.wireframe, options.show_com

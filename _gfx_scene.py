@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 import graphics_defs as gd
 from kinematics import Kinematics
@@ -104,7 +104,8 @@ class Scene:
     False.  ``vectors``: arrows (origin (3,), vector (3,), rgba), 1 m per unit.
     ``workspace``: a point cloud or None.  ``task``: the pick task's table, object,
     gripper and planned path (the endeffector sphere is then left out: the gripper is
-    the endeffector), or None.
+    the endeffector), or None.  ``trail``: the endeffector's recent path (N, 3), drawn
+    as a line in ``TRAIL_COLOR``, or None.
     """
 
     kinematics: Kinematics
@@ -114,4 +115,5 @@ class Scene:
     vectors: list[Vector] = field(default_factory=list)
     workspace: WorkspaceCloud | None = None
     task: TaskScene | None = None
+    trail: NDArray[np.float64] | None = None
 

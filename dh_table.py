@@ -66,12 +66,14 @@ def cell_text(robot: RobotParams, q: NDArray[np.float64], row: int, column: str)
     scale, unit = _q_unit(robot, row)
     if column == "type":
         return "prismatic" if _is_prismatic(robot, row) else "revolute"
+    if column == variable_column(robot, row):  # offset + q, to the joint panel's precision
+        if _is_prismatic(robot, row):
+            return f"{robot.dh_d[row] + q[row]:.4f} (q{row + 1})"
+        return f"{math.degrees(robot.dh_th[row] + q[row]) + 0.0:.2f} (q{row + 1})"
     if column == "theta":
-        theta = robot.dh_th[row] + (0.0 if _is_prismatic(robot, row) else q[row])
-        return _number(math.degrees(theta)) + ("" if _is_prismatic(robot, row) else f" (q{row + 1})")
+        return _number(math.degrees(robot.dh_th[row]))
     if column == "d":
-        d = robot.dh_d[row] + (q[row] if _is_prismatic(robot, row) else 0.0)
-        return _number(d) + (f" (q{row + 1})" if _is_prismatic(robot, row) else "")
+        return _number(robot.dh_d[row])
     if column == "a":
         return _number(robot.dh_a[row])
     if column == "alpha":

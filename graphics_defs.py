@@ -163,7 +163,7 @@ KEY_BINDINGS = (
     # action, called with the argument; consecutive rows with the same description
     # share one help line.
     ("H", "", "toggle_help", None, "show / hide this help"),
-    ("Escape", "", "quit", None, "quit"),
+    ("Escape", "", "quit", None, "close this help, else quit"),
     ("T", "", "toggle_wireframe", None, "wireframe on / off"),
     ("A", "", "toggle_alpha", None, "transparency on / off"),
     ("0", "", "toggle_all_frames", None, "all joint frames on / off"),
@@ -201,6 +201,17 @@ KEY_BINDINGS = (
     ("L", "Shift", "rotate_target", (1, -1), "rotate IK target +/- about world y"),
     ("U", "Shift", "rotate_target", (2, 1), "rotate IK target +/- about world z"),
     ("O", "Shift", "rotate_target", (2, -1), "rotate IK target +/- about world z"),
+    ("1", "Ctrl", "view_preset", "front", "view from the front / side / top / iso"),  # VIEW_PRESETS key
+    ("2", "Ctrl", "view_preset", "side", "view from the front / side / top / iso"),
+    ("3", "Ctrl", "view_preset", "top", "view from the front / side / top / iso"),
+    ("4", "Ctrl", "view_preset", "iso", "view from the front / side / top / iso"),
+    ("5", "Ctrl", "toggle_orthographic", None, "orthographic / perspective projection"),
+    ("F", "", "toggle_follow", None, "camera follows the endeffector on / off"),
+    ("B", "", "toggle_trail", None, "endeffector trail on / off"),
+    ("D", "", "annotate_next", None, "annotate DH parameters of the next joint (then none)"),
+    ("Home", "", "go_home", None, "all joints to their home values"),
+    ("O", "Ctrl", "open_robot", None, "open a robot file"),
+    ("S", "Ctrl", "save_robot_as", None, "save the robot as a file (comments kept)"),
 )
 
 MOUSE_BINDINGS = (
@@ -225,8 +236,7 @@ SLIDER_LABEL_FORMAT_REVOLUTE = "{name}: {value:+7.1f} deg"
 SLIDER_LABEL_FORMAT_PRISMATIC = "{name}: {value:+7.3f} m"
 
 # Status bar
-STATUS_FORMAT = ("{robot} | endeff xyz [m] {x:+.3f} {y:+.3f} {z:+.3f}"
-                 " | rpy [deg] {roll:+.1f} {pitch:+.1f} {yaw:+.1f} | {fps}")
+STATUS_FORMAT = "{robot} | {fps}"  # permanent, right; one-off messages on its left
 STATUS_FPS_FORMAT = "{fps:.0f} fps"
 STATUS_FPS_IDLE = "idle"
 STATUS_TARGET_UNREACHABLE = " | IK target UNREACHABLE (pos err {pos_err:.3f} m, rot err {rot_err_deg:.1f} deg)"
@@ -266,13 +276,25 @@ WORKSPACE_SEED = 0
 HELP_FONT_FAMILY = "monospace"
 HELP_FONT_PT = 9
 HELP_MARGIN_PX = 12
-HELP_BACKGROUND_RGBA = (0, 0, 0, 190)
+HELP_BACKGROUND_RGBA = (0, 0, 0, 225)
 HELP_TEXT_RGB = (235, 235, 235)
 
-# Screenshots saved with P (relative to the working directory)
+# Screenshots saved with P: into this folder of the working directory (created)
+SCREENSHOT_DIR = "screenshots"
 SCREENSHOT_NAME_FORMAT = "robot-sim-{robot}-{stamp}.png"
 
+# View presets (Ctrl+1..4): camera (azimuth, elevation) in degrees, target and distance kept.
+# front: eye on +x looking back at the base; side: eye on -y (x to the right);
+# top: looking down (x right, y up); iso: eye along (1, 1, 1).
+VIEW_PRESETS = {
+    "front": (0.0, 0.0),
+    "side": (-90.0, 0.0),
+    "top": (-90.0, 90.0),
+    "iso": (45.0, 35.26438968),
+}
+
 # Endeffector readout (window dock): world pose and manipulability
+READOUT_FONT_PT = 8
 READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
                   "rpy [deg] {roll:+.2f} {pitch:+.2f} {yaw:+.2f}\n"
                   "quat wxyz {qw:+.4f} {qx:+.4f} {qy:+.4f} {qz:+.4f}\n"
@@ -281,6 +303,8 @@ READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
 # Endeffector trail (toggle key in KEY_BINDINGS)
 TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
 TRAIL_MIN_STEP_M = 0.002             # a point closer than this to the last is not stored
+TRAIL_COLOR = (1.0, 0.40, 0.70, 1.0)  # pink: distinct from axes, robot, ghost, target, pick path and object
+TRAIL_WIDTH_PX = 2.0
 
 # Joint panel: slider + typed box per joint, limits written at the slider's ends
 JOINT_UNIT_REVOLUTE = "°"
@@ -338,3 +362,17 @@ RECORD_MAX_FPS = 1000.0
 STATUS_WORKSPACE_FORMAT = "   workspace: {state}"
 # How long an error caught at the Qt boundary stays in the status bar (ms)
 STATUS_ERROR_MS = 15000
+
+
+# Help overlay layout: column pairs (keys, description) side by side when they fit
+HELP_MAX_COLUMNS = 2
+HELP_COLUMN_GAP_PX = 14
+
+# View information in the GL view's corners: grid spacing, projection, follow mode,
+# and the colour legend of the workspace cloud (coloured by manipulability)
+VIEW_INFO_GRID_FORMAT = "grid {step:g} m"
+VIEW_INFO_MARGIN_PX = 8
+VIEW_INFO_TEXT_RGB = (225, 225, 225)
+LEGEND_BAR_SIZE_PX = (160, 12)       # width, height
+LEGEND_TEXT_PX = 12
+LEGEND_TITLE = "manipulability √det(J Jᵀ)"

@@ -31,7 +31,7 @@ from pick_demo import PickDemo
 from pick_task import TaskPlan
 from robot_defs import JTYPE_PRISMATIC, RobotParams
 from robot_state import RobotState
-from transforms import HomogeneousTransform, rpy_from_rot
+from transforms import HomogeneousTransform
 
 
 # --------------------------------------------------------------------------------------
@@ -300,12 +300,9 @@ class ViewerSession:
         )
 
     def status_text(self, fps_text: str) -> str:
-        """Status bar text: robot name, endeffector position (m) and roll-pitch-yaw (deg)."""
-        x, y, z = self.kin.endeff_tf.t()
-        roll, pitch, yaw = np.degrees(rpy_from_rot(self.kin.endeff_tf.R()))
-        text = gd.STATUS_FORMAT.format(
-            robot=self.robot.name, x=x, y=y, z=z, roll=roll, pitch=pitch, yaw=yaw, fps=fps_text
-        )
+        """Status bar text: robot name and frame rate, and a failed IK target's errors
+        (the endeffector pose has its own readout in the window)."""
+        text = gd.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
         if self.target_tf is not None and not self.target_reachable:
             text += gd.STATUS_TARGET_UNREACHABLE.format(
                 pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err)

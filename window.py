@@ -1,4 +1,9 @@
-"""The Qt window of robot-sim: main window, GL view, help overlay, key and mouse input.
+"""The Qt window of robot-sim: main window, GL view, docks, key and mouse input.
+
+The widgets the window is built from have their own modules: the joint panel
+(``_win_joints``), the DH table dock with Open…/Save as… and the file watch
+(``_win_dh_dock``), the help overlay and the view's corner information
+(``_win_overlays``).
 
 PyQt5 is imported here, at the top, and this module is imported only when a window is
 opened (``simulator.launch``), so ``--screenshot`` never loads Qt.  The window shows a
@@ -23,12 +28,19 @@ from PyQt5.QtCore import Qt
 import graphics_defs as gd
 import graphics_objects as go
 from _cli import PROG, Config, session_from_config
-from _window_pick import PickPanel, PlotDock
-from pick_demo import plan_for
-from robot_defs import JTYPE_PRISMATIC, RobotDefinitionError, available_robots, load_robot
 from _qt_guard import guarded, install_excepthook
+from _window_pick import PickPanel, PlotDock
+from _win_dh_dock import DHTableDock
+from _win_joints import JointPanel
+from _win_overlays import HelpOverlay, ViewInfo, ViewInfoOverlay
+from dh_table import carry_joint_values
 from fileio import FileWriteError, write_atomic
-from viewer_state import ViewerSession, compute_workspace, display_range, display_scale, wrap_display
+from kinematics import manipulability
+from pick_demo import plan_for
+from readout import pose_readout
+from robot_defs import RobotDefinitionError, RobotParams, available_robots, resolve_robot_path
+from trail import Trail
+from viewer_state import ViewerSession, compute_workspace
 from workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
 _MODIFIER_FLAGS = {"Shift": Qt.ShiftModifier, "Ctrl": Qt.ControlModifier, "Alt": Qt.AltModifier}
@@ -41,24 +53,6 @@ def key_of(key: str, mods: str) -> tuple[int, int]:
     return int(getattr(Qt, f"Key_{key}")), int(bits)
 
 
-def help_lines() -> list[str]:
-    """Help overlay text generated from KEY_BINDINGS then MOUSE_BINDINGS.
-
-    Consecutive bindings with the same description share a line ("W / S", "1 .. 9").
-    """
-    groups: list[tuple[list[str], str]] = []
-    for key, mods, _action, _arg, text in gd.KEY_BINDINGS:
-        name = f"{mods}+{key}" if mods else key
-        if groups and groups[-1][1] == text:
-            groups[-1][0].append(name)
-        else:
-            groups.append(([name], text))
-    rows = [(" / ".join(names) if len(names) <= 2 else f"{names[0]} .. {names[-1]}", text) for names, text in groups]
-    rows += list(gd.MOUSE_BINDINGS)
-    width = max(len(name) for name, _ in rows)
-    return [f"{name:<{width}}  {text}" for name, text in rows]
-
-
 def run_window(config: Config) -> int:
     """Open the main window for ``config`` and run the Qt event loop; returns its exit status."""
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
@@ -69,40 +63,9 @@ def run_window(config: Config) -> int:
     return app.exec_()
 
 
-class HelpOverlay(QtWidgets.QWidget):
-    """Key and mouse bindings drawn with QPainter over the GL picture: a transparent
-    child of the GL view, so its painting shares no GL state with render_scene."""
-
-    def __init__(self, parent: QtWidgets.QWidget) -> None:
-        super().__init__(parent)
-        self.setAttribute(Qt.WA_TransparentForMouseEvents)
-        self.setFocusPolicy(Qt.NoFocus)
-        self.hide()
-
-    @guarded
-    def paintEvent(self, event: QtGui.QPaintEvent) -> None:
-        painter = QtGui.QPainter(self)
-        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
-        font.setStyleHint(QtGui.QFont.TypeWriter)
-        painter.setFont(font)
-        metrics = QtGui.QFontMetrics(font)
-        lines = help_lines()
-        margin, line_h = gd.HELP_MARGIN_PX, metrics.lineSpacing()
-        rows = max(1, (self.height() - 4 * margin) // line_h)
-        columns = [lines[i:i + rows] for i in range(0, len(lines), rows)]
-        col_w = max(metrics.horizontalAdvance(line) for line in lines) + 2 * margin
-        box = QtCore.QRect(margin, margin, col_w * len(columns) + margin, line_h * min(rows, len(lines)) + 2 * margin)
-        painter.fillRect(box, QtGui.QColor(*gd.HELP_BACKGROUND_RGBA))
-        painter.setPen(QtGui.QColor(*gd.HELP_TEXT_RGB))
-        for c, column in enumerate(columns):
-            for r, line in enumerate(column):
-                painter.drawText(2 * margin + c * col_w, 2 * margin + r * line_h + metrics.ascent(), line)
-        painter.end()
-
-
 class GLView(QtWidgets.QOpenGLWidget):
     """GL widget: paints the simulation with render_scene, turns the mouse into camera
-    and target moves, carries the help overlay and measures the frame rate over actual
+    and target moves, carries the view information overlay and measures the frame rate over actual
     paints."""
 
     def __init__(self, window: "MainWindow") -> None:
@@ -113,7 +76,7 @@ class GLView(QtWidgets.QOpenGLWidget):
         surface.setDepthBufferSize(gd.DEPTH_BUFFER_BITS)
         self.setFormat(surface)
         self.window_ = window
-        self.help = HelpOverlay(self)
+        self.info = ViewInfoOverlay(self)
         self.paint_times: deque[float] = deque()
         self.drag_pos: QtCore.QPoint | None = None
         self.framed = False
@@ -139,10 +102,13 @@ class GLView(QtWidgets.QOpenGLWidget):
     def paintGL(self) -> None:
         sim = self.window_.session
         width, height = self.pixel_size()
+        scene = sim.scene()
+        if self.window_.trail is not None:
+            scene.trail = self.window_.trail.points()
         try:
-            go.render_scene(sim.camera, sim.scene(), sim.options, width, height)
+            go.render_scene(sim.camera, scene, sim.options, width, height)
         except RuntimeError as exc:  # an exception escaping paintGL aborts PyQt
-            self.window_.statusBar().showMessage(f"cannot draw: {exc}")
+            self.window_.message(f"cannot draw: {exc}")
             return
         self.paint_times.append(time.monotonic())
         self.window_.refresh_status()
@@ -160,7 +126,7 @@ class GLView(QtWidgets.QOpenGLWidget):
     @guarded
     def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
         super().resizeEvent(event)
-        self.help.resize(self.size())
+        self.info.resize(self.size())
 
     @guarded
     def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
@@ -186,8 +152,10 @@ class GLView(QtWidgets.QOpenGLWidget):
 
 
 class MainWindow(QtWidgets.QMainWindow):
-    """Main window: GL view in the middle, a dock with the robot chooser, one slider per
-    joint and the frame list, a status bar.  Keys are dispatched through KEY_BINDINGS."""
+    """Main window: GL view in the middle; on the right a dock with the robot chooser, the
+    joint sliders and boxes, the endeffector readout and the frame list; below, the DH
+    table dock; a status bar with one-off messages left of the permanent readout.  Keys
+    are dispatched through KEY_BINDINGS."""
 
     workspace_ready = QtCore.pyqtSignal()
 
@@ -197,20 +165,28 @@ class MainWindow(QtWidgets.QMainWindow):
         self.session = session_from_config(config)
         self.pick_panel: PickPanel | None = None
         self.plot_dock: PlotDock | None = None
-        self.sliders: list[tuple[QtWidgets.QSlider, QtWidgets.QLabel]] = []
         self.workspace = WorkspaceJob(compute_workspace, self.workspace_ready.emit)
         self.last_error = ""
         self.last_tick = 0.0
-        self.setWindowTitle(PROG)
+        self.trail: Trail | None = None
+        self.following = False
+        self.edited = False  # the shown robot differs from its file
         self.view = GLView(self)
         self.setCentralWidget(self.view)
+        self.help = HelpOverlay(self)
         self.timer = QtCore.QTimer(self)
         self.timer.setInterval(gd.ANIM_INTERVAL_MS)
         self.timer.timeout.connect(self.tick)
         self.workspace_ready.connect(self.on_workspace_ready, QtCore.Qt.QueuedConnection)
+        self.message_label = QtWidgets.QLabel()
+        self.message_timer = QtCore.QTimer(self)
+        self.message_timer.setSingleShot(True)
+        self.message_timer.timeout.connect(self.message_label.clear)
         self.status = QtWidgets.QLabel()
-        self.statusBar().addPermanentWidget(self.status, 1)
+        self.statusBar().addWidget(self.message_label, 1)
+        self.statusBar().addPermanentWidget(self.status)
         self.build_dock()
+        self.build_dh_dock()
         self.actions = self.build_actions()
         self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in gd.KEY_BINDINGS}
         self.resize(*config.size)
@@ -223,9 +199,10 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.session.pick is not None:
             self.show_pick()
 
-    # ---- dock ----
+    # ---- docks ----
     def build_dock(self) -> None:
         dock = QtWidgets.QDockWidget("Robot", self)
+        dock.setObjectName("robot_dock")
         dock.setFeatures(QtWidgets.QDockWidget.NoDockWidgetFeatures)
         panel = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(panel)
@@ -237,14 +214,21 @@ class MainWindow(QtWidgets.QMainWindow):
         self.robot_combo.setCurrentText(self.config.robot_arg)
         self.robot_combo.currentTextChanged.connect(self.choose_robot)
         layout.addWidget(self.robot_combo)
-        self.joints_box = QtWidgets.QWidget()
-        self.joints_layout = QtWidgets.QVBoxLayout(self.joints_box)
-        self.joints_layout.setSpacing(2)
-        self.joints_layout.addStretch(1)
+        self.joints = JointPanel()
+        self.joints.joint_moved.connect(self.joint_moved)
+        self.joints.q_requested.connect(self.set_q)
         scroll = QtWidgets.QScrollArea()
         scroll.setWidgetResizable(True)
-        scroll.setWidget(self.joints_box)
+        scroll.setWidget(self.joints)
         layout.addWidget(scroll, 3)
+        self.readout = QtWidgets.QLabel()
+        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.READOUT_FONT_PT)
+        font.setStyleHint(QtGui.QFont.TypeWriter)
+        self.readout.setFont(font)
+        self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.readout.setToolTip("endeffector pose in the world: position, roll-pitch-yaw (URDF), "
+                                "quaternion; Yoshikawa's manipulability")
+        layout.addWidget(self.readout)
         layout.addWidget(QtWidgets.QLabel("Frames"))
         self.frames_list = QtWidgets.QListWidget()
         self.frames_list.itemChanged.connect(self.frame_item_changed)
@@ -255,24 +239,30 @@ class MainWindow(QtWidgets.QMainWindow):
         dock.setMinimumWidth(gd.DOCK_MIN_WIDTH)
         self.addDockWidget(Qt.RightDockWidgetArea, dock)
 
+    def build_dh_dock(self) -> None:
+        self.dh_dock = DHTableDock(self)
+        self.dh_dock.setFeatures(QtWidgets.QDockWidget.DockWidgetMovable | QtWidgets.QDockWidget.DockWidgetFloatable)
+        self.dh_dock.robot_edited.connect(self.robot_edited)
+        self.dh_dock.robot_loaded.connect(self.robot_loaded)
+        self.dh_dock.joint_selected.connect(self.annotate)
+        self.dh_dock.message.connect(self.message)
+        self.dh_dock.file_changed.connect(self.file_changed)
+        self.addDockWidget(Qt.BottomDockWidgetArea, self.dh_dock)
+        try:
+            path = resolve_robot_path(self.config.robot_arg)
+            text = path.read_text(encoding="utf-8")
+        except (RobotDefinitionError, OSError, UnicodeDecodeError):
+            path, text = None, None  # loaded a moment ago; if it is gone now, edits stay unsaved
+        self.dh_dock.set_file(path, text)
+
     def robot_changed(self) -> None:
-        """Rebuild the sliders and the frame list for ``self.session.robot``."""
-        for slider, label in self.sliders:
-            slider.deleteLater()
-            label.deleteLater()
-        self.sliders = []
+        """Rebuild the joint rows, the DH table and the frame list for the session's robot."""
         robot = self.session.robot
-        lo, hi = display_range(robot)
-        for i in range(robot.n_dofs):
-            label = QtWidgets.QLabel()
-            slider = QtWidgets.QSlider(Qt.Horizontal)
-            slider.setFocusPolicy(Qt.NoFocus)
-            ticks = self.ticks_per_unit(i)
-            slider.setRange(math.floor(lo[i] * ticks), math.ceil(hi[i] * ticks))
-            slider.valueChanged.connect(functools.partial(self.slider_moved, i))
-            self.joints_layout.insertWidget(2 * i, label)
-            self.joints_layout.insertWidget(2 * i + 1, slider)
-            self.sliders.append((slider, label))
+        self.joints.set_robot(robot)
+        self.dh_dock.set_robot(robot, self.session.state.q())
+        annotated = self.session.options.annotate_joint  # --annotate J: its row selected
+        if annotated is not None and self.dh_dock.selected_joint() != annotated - 1:
+            self.dh_dock.table.selectRow(annotated - 1)
         self.frames_list.blockSignals(True)
         self.frames_list.clear()
         names = [f"frame {i}" + (" (base)" if i == 0 else "") for i in range(self.session.n_frames)]
@@ -281,30 +271,50 @@ class MainWindow(QtWidgets.QMainWindow):
             item.setFlags(Qt.ItemIsUserCheckable | Qt.ItemIsEnabled)
             self.frames_list.addItem(item)
         self.frames_list.blockSignals(False)
+        self.update_title()
         self.sync_widgets()
 
-    def ticks_per_unit(self, joint: int) -> int:
-        prismatic = self.session.robot.jtype[joint] == JTYPE_PRISMATIC
-        return gd.SLIDER_TICKS_PER_M if prismatic else gd.SLIDER_TICKS_PER_DEG
+    def update_title(self) -> None:
+        """``robot — file [edited] — robot-sim``."""
+        path = self.dh_dock.path
+        where = str(path) if path is not None else "not saved"
+        mark = " (edited)" if self.edited else ""
+        self.setWindowTitle(f"{self.session.robot.name} — {where}{mark} — {PROG}")
 
     def sync_widgets(self) -> None:
-        """Show the simulation's q on the sliders and its frame options in the list."""
-        values = wrap_display(self.session.robot, self.session.state.q())
-        for i, (slider, label) in enumerate(self.sliders):
-            prismatic = self.session.robot.jtype[i] == JTYPE_PRISMATIC
-            fmt = gd.SLIDER_LABEL_FORMAT_PRISMATIC if prismatic else gd.SLIDER_LABEL_FORMAT_REVOLUTE
-            label.setText(fmt.format(name=f"joint {i + 1}", value=round(values[i], 3) + 0.0))
-            slider.blockSignals(True)
-            slider.setValue(round(values[i] * self.ticks_per_unit(i)))
-            slider.blockSignals(False)
+        """Show the session's q, pose and frame options on the widgets; move the trail and
+        the followed camera with the endeffector."""
+        session = self.session
+        q = session.state.q()
+        endeff = session.kin.endeff_tf
+        self.joints.show_q(q)
+        self.dh_dock.show_q(q)
+        jac = session.kin.jacobian
+        self.readout.setText(pose_readout(endeff, manipulability(session.robot, q, jac)))
+        if self.trail is not None and self.trail.add(endeff.t()):
+            self.view.update()
+        if self.following:
+            session.camera.target = endeff.t().copy()
         self.frames_list.blockSignals(True)
-        options = self.session.options
+        options = session.options
         for i, shown in enumerate(options.show_frames + [options.show_endeff_frame]):
             self.frames_list.item(i).setCheckState(Qt.Checked if shown else Qt.Unchecked)
         self.frames_list.blockSignals(False)
         self.sync_pick()
+        self.update_view_info()
         self.view.update()
 
+    def update_view_info(self) -> None:
+        session = self.session
+        cloud = session.workspace if session.options.show_workspace else None
+        cloud_range = None
+        if cloud is not None and len(cloud.values):
+            cloud_range = (float(np.min(cloud.values)), float(np.max(cloud.values)))
+        step = go.GroundGraphics.for_reach(go.robot_reach(session.robot)).step
+        self.view.info.info = ViewInfo(step, session.camera.orthographic, self.following, cloud_range)
+        self.view.info.update()
+
+    @guarded
     def refresh_status(self) -> None:
         text = self.session.status_text(self.view.fps_text())
         if self.workspace.state != IDLE:
@@ -314,37 +324,88 @@ class MainWindow(QtWidgets.QMainWindow):
     def report_error(self, text: str) -> None:
         """Show an error caught at the Qt boundary (_qt_guard) in the status bar."""
         self.last_error = text
-        self.statusBar().showMessage(text, gd.STATUS_ERROR_MS)
+        self.message(text, gd.STATUS_ERROR_MS)
 
-    def message(self, text: str) -> None:
-        self.statusBar().showMessage(text, gd.STATUS_MESSAGE_MS)
+    def message(self, text: str, duration_ms: int | None = None) -> None:
+        """Show ``text`` left of the permanent status for ``duration_ms`` (default
+        STATUS_MESSAGE_MS)."""
+        self.message_label.setText(text)
+        self.message_label.setToolTip(text)
+        self.message_timer.start(gd.STATUS_MESSAGE_MS if duration_ms is None else duration_ms)
 
-    # ---- widget callbacks ----
+    # ---- robots: chooser, DH edits, files ----
     @guarded
     def choose_robot(self, name: str) -> None:
         """Switch to robot ``name`` (shipped name or file) without restarting."""
         try:
-            robot = load_robot(name)
+            path = resolve_robot_path(name)
         except RobotDefinitionError as exc:
             self.message(str(exc))
             return
-        previous = self.session.options
-        self.timer.stop()
-        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1))
-        for flag in ("wireframe", "alpha", "show_vectors"):
-            setattr(self.session.options, flag, getattr(previous, flag))
-        self.workspace.reset()  # cancels a computation for the previous robot
-        self.robot_changed()
-        if self.pick_panel is not None:
-            self.start_pick()
+        self.dh_dock.open_file(path)
         self.view.setFocus()
 
     @guarded
-    def slider_moved(self, joint: int, ticks: int) -> None:
+    def robot_loaded(self, robot: RobotParams, keep_q: bool) -> None:
+        """A robot from Open…, the chooser or a reload of the file: keep the joint values
+        (and the camera) on a reload when the number of joints is unchanged."""
+        self.edited = False
+        self.replace_robot(robot, keep_q and robot.n_dofs == self.session.robot.n_dofs)
+
+    @guarded
+    def robot_edited(self, robot: RobotParams) -> None:
+        """A DH table edit: the same arm with one value changed, at the same joint values."""
+        self.edited = True
+        self.replace_robot(robot, keep_q=True)
+
+    @guarded
+    def file_changed(self, _path: object) -> None:
+        self.edited = False
+        self.update_title()
+
+    def replace_robot(self, robot: RobotParams, keep_q: bool) -> None:
+        """Show ``robot`` in a new session; with ``keep_q`` the joint values (carried over
+        joint by joint), the camera and the frame choice stay."""
+        old = self.session
         self.timer.stop()
-        scale = display_scale(self.session.robot)[joint]
-        self.session.set_joint(joint, ticks / self.ticks_per_unit(joint) / scale)
+        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1))
+        for flag in ("wireframe", "alpha", "show_vectors"):
+            setattr(self.session.options, flag, getattr(old.options, flag))
+        self.session.camera.orthographic = old.camera.orthographic
+        if keep_q:
+            self.session.set_q(carry_joint_values(old.robot, old.state.q(), robot))
+            self.session.camera = old.camera
+            if robot.n_dofs == old.robot.n_dofs:
+                self.session.options.show_frames = list(old.options.show_frames)
+                self.session.options.show_endeff_frame = old.options.show_endeff_frame
+                self.session.options.annotate_joint = old.options.annotate_joint
+        self.workspace.reset()  # cancels a computation for the previous robot
+        if self.trail is not None:
+            self.trail.clear()
+        self.robot_changed()
+        if self.pick_panel is not None:
+            self.start_pick()
+
+    @guarded
+    def joint_moved(self, joint: int, value: float) -> None:
+        """A slider or box moved joint ``joint`` to ``value`` (rad or m)."""
+        self.timer.stop()
+        self.session.set_joint(joint, value)
         self.sync_widgets()
+
+    @guarded
+    def set_q(self, q: np.ndarray) -> None:
+        """Home or Zero: every joint at once (SI)."""
+        self.timer.stop()
+        self.session.set_q(q)
+        self.sync_widgets()
+
+    @guarded
+    def annotate(self, row: int | None) -> None:
+        """Draw the DH parameters of the joint of DH table row ``row`` (0-based) in the
+        view, or none (``annotate_joint`` counts joints from 1)."""
+        self.session.options.annotate_joint = None if row is None else row + 1
+        self.view.update()
 
     @guarded
     def frame_item_changed(self, item: QtWidgets.QListWidgetItem) -> None:
@@ -391,6 +452,14 @@ class MainWindow(QtWidgets.QMainWindow):
             "toggle_target": self.act_toggle_target,
             "move_target": self.act_move_target,
             "rotate_target": self.act_rotate_target,
+            "view_preset": self.act_view_preset,
+            "toggle_orthographic": self.act_toggle_orthographic,
+            "toggle_follow": self.act_toggle_follow,
+            "toggle_trail": self.act_toggle_trail,
+            "annotate_next": self.act_annotate_next,
+            "go_home": self.act_go_home,
+            "open_robot": lambda _: self.dh_dock.open_dialog(),
+            "save_robot_as": lambda _: self.dh_dock.save_dialog(),
         }
         missing = {row[2] for row in gd.KEY_BINDINGS} - actions.keys()
         if missing:
@@ -398,10 +467,57 @@ class MainWindow(QtWidgets.QMainWindow):
         return actions
 
     def act_toggle_help(self, _: None) -> None:
-        self.view.help.setVisible(not self.view.help.isVisible())
+        if self.help.isVisible():
+            self.help.hide()
+            return
+        self.help.fit(self.rect())
+        self.help.show()
+        self.help.raise_()
 
     def act_quit(self, _: None) -> None:
-        self.close()
+        """Esc: close the help overlay if it is open, else the window."""
+        if self.help.isVisible():
+            self.help.hide()
+        else:
+            self.close()
+
+    def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
+        super().resizeEvent(event)
+        if self.help.isVisible():
+            self.help.fit(self.rect())
+
+    def act_view_preset(self, name: str) -> None:
+        """Look from the front, side, top or iso direction (VIEW_PRESETS)."""
+        self.session.camera.set_view(*gd.VIEW_PRESETS[name])
+        self.message(f"view: {name}")
+
+    def act_toggle_orthographic(self, _: None) -> None:
+        camera = self.session.camera
+        camera.orthographic = not camera.orthographic
+        self.message("orthographic projection" if camera.orthographic else "perspective projection")
+
+    def act_toggle_follow(self, _: None) -> None:
+        """Keep the camera aimed at the endeffector (its target follows it) or stop."""
+        self.following = not self.following
+        self.message("camera follows the endeffector" if self.following else "camera stays put")
+
+    def act_toggle_trail(self, _: None) -> None:
+        """Start drawing the endeffector's path from here, or stop and forget it."""
+        self.trail = Trail() if self.trail is None else None
+        self.message("endeffector trail on" if self.trail is not None else "endeffector trail off")
+
+    def act_annotate_next(self, _: None) -> None:
+        """Annotate the next joint's DH parameters (selecting its DH table row); after the
+        last joint, none."""
+        current = self.session.options.annotate_joint  # 1..n or None
+        following = 0 if current is None else current  # the next joint's 0-based row
+        if following < self.session.robot.n_dofs:
+            self.dh_dock.table.selectRow(following)
+        else:
+            self.dh_dock.table.clearSelection()
+
+    def act_go_home(self, _: None) -> None:
+        self.set_q(np.array(self.session.robot.q_home))
 
     def act_toggle_wireframe(self, _: None) -> None:
         self.session.options.toggle_wireframe()
@@ -548,12 +664,20 @@ class MainWindow(QtWidgets.QMainWindow):
 
     # ---- screenshot and workspace ----
     def act_save_screenshot(self, _: None = None) -> None:
+        """Save the view as a PNG in SCREENSHOT_DIR of the working directory (created if
+        needed, written atomically); the status bar says where."""
         stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{int(time.time() * 1000) % 1000:03d}"
-        stem = Path(self.robot_combo.currentText()).stem
-        path = Path.cwd() / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
+        stem = self.dh_dock.path.stem if self.dh_dock.path is not None else "robot"
+        folder = Path.cwd() / gd.SCREENSHOT_DIR
+        path = folder / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
+        try:
+            folder.mkdir(exist_ok=True)
+        except OSError as exc:
+            self.message(f"could not create {folder}: {exc.strerror or exc}")
+            return
         buffer = QtCore.QBuffer()
         buffer.open(QtCore.QIODevice.WriteOnly)
-        self.view.grab().save(buffer, "PNG")  # the GL picture with the help overlay if shown
+        self.view.grab().save(buffer, "PNG")  # the GL picture with its corner information
         try:
             write_atomic(path, bytes(buffer.data()))
         except FileWriteError as exc:

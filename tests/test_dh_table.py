@@ -18,7 +18,7 @@ def test_puma_rows_show_current_theta_and_constants():
     puma = robot("puma560")
     q = np.array([10.0, 20.0, -30.0, 0.0, 0.0, 0.0]) * DEG
     assert [cell_text(puma, q, 0, c) for c in COLUMNS] == [
-        "revolute", "10 (q1)", "0.67183", "0", "90", "0°", "-160 .. 160°", "0°",
+        "revolute", "10.00 (q1)", "0.67183", "0", "90", "0°", "-160 .. 160°", "0°",
     ]
     assert cell_text(puma, q, 1, "home") == "45°"
 
@@ -29,7 +29,7 @@ def test_stanford_prismatic_row_shows_current_d_and_its_offset_in_metres():
     q = np.array(stanford.q_home)
     q[2] = 0.25
     d = stanford.dh_d[2] + 0.25
-    assert cell_text(stanford, q, 2, "d") == f"{d:.10g} (q3)"
+    assert cell_text(stanford, q, 2, "d") == f"{d:.4f} (q3)"
     assert cell_text(stanford, q, 2, "offset") == f"{stanford.dh_d[2]:.10g} m"
     assert not is_editable(stanford, 2, "d") and is_editable(stanford, 2, "theta")
     assert not is_editable(stanford, 0, "theta") and is_editable(stanford, 0, "d")

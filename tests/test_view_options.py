@@ -1,0 +1,111 @@
+"""View presets, the orthographic projection and the endeffector trail, rendered offscreen
+(OSMesa): camera maths checked against closed forms, pixels at Camera.project's points."""
+from __future__ import annotations
+
+import math
+from typing import Iterator
+
+import numpy as np
+import pytest
+
+import graphics_objects as go
+
+go.require_osmesa_platform()
+
+import graphics_defs as gd  # noqa: E402
+from kinematics import Kinematics  # noqa: E402
+from robot_defs import load_robot  # noqa: E402
+from robot_state import RobotState  # noqa: E402
+
+W, H = 320, 240
+
+
+@pytest.fixture(scope="module")
+def renderer() -> Iterator[go.OffscreenRenderer]:
+    with go.OffscreenRenderer(W, H) as r:
+        yield r
+
+
+def planar_kinematics() -> Kinematics:
+    robot = load_robot("planar3")
+    state = RobotState(robot)
+    state.set_q(np.radians([20.0, 30.0, -40.0]))
+    kin = Kinematics(robot)
+    kin.update(state.joint_state)
+    return kin
+
+
+@pytest.mark.parametrize(
+    "preset, direction",
+    [
+        ("front", (1.0, 0.0, 0.0)),
+        ("side", (0.0, -1.0, 0.0)),
+        ("iso", (1.0, 1.0, 1.0)),
+    ],
+)
+def test_view_presets_put_the_eye_on_the_named_side(preset, direction):
+    camera = go.Camera(distance=2.0, azimuth_deg=10.0, elevation_deg=20.0, target=[0.1, 0.2, 0.3])
+    camera.set_view(*gd.VIEW_PRESETS[preset])
+    expected = np.asarray(direction) / np.linalg.norm(direction)
+    np.testing.assert_allclose((camera.eye() - camera.target) / camera.distance, expected, atol=1e-9)
+    np.testing.assert_array_equal(camera.target, [0.1, 0.2, 0.3])
+    assert camera.distance == 2.0
+
+
+def test_top_view_looks_down_with_x_right_and_y_up():
+    camera = go.Camera()
+    camera.set_view(*gd.VIEW_PRESETS["top"])
+    view_dir = (camera.target - camera.eye()) / camera.distance
+    assert math.degrees(math.acos(-view_dir[2])) <= 90.0 - gd.CAMERA_MAX_ELEVATION_DEG + 1e-9
+    right, up = camera.view_plane_axes()
+    np.testing.assert_allclose(right, [1.0, 0.0, 0.0], atol=1e-12)
+    assert up[1] > 0.999
+
+
+def test_orthographic_projection_is_parallel_at_the_scale_of_the_target_plane():
+    camera = go.Camera(distance=2.0, azimuth_deg=30.0, elevation_deg=20.0)
+    right, _ = camera.view_plane_axes()
+    towards_eye = (camera.eye() - camera.target) / camera.distance
+    beside = camera.target + 0.1 * right
+    pair = np.array([beside, beside + 0.5 * towards_eye])
+    centre_x = (W - 1) / 2.0
+    perspective = camera.project(pair, W, H)
+    expected = 0.1 / camera.world_per_pixel(H)  # px: 0.1 m in the plane through the target
+    # perspective: the point 0.5 m nearer (1.5 m from the eye instead of 2) lies farther out
+    np.testing.assert_allclose(perspective[1, 0] - centre_x, expected * 2.0 / 1.5, rtol=1e-9)
+    camera.orthographic = True
+    ortho = camera.project(pair, W, H)
+    np.testing.assert_allclose(ortho[1], ortho[0], atol=1e-9)  # same ray, same pixel
+    # both put a point of the target plane at the same place
+    np.testing.assert_allclose([ortho[0, 0] - centre_x, perspective[0, 0] - centre_x], expected, rtol=1e-9)
+
+
+def test_orthographic_render_draws_the_endeffector_where_project_puts_it(renderer):
+    kin = planar_kinematics()
+    camera = go.Camera(orthographic=True)
+    camera.set_view(*gd.VIEW_PRESETS["top"])
+    camera.fit(np.vstack([[tf.t() for tf in kin.h_tf], kin.endeff_tf.t()]), W / H)
+    image = renderer.render(camera, go.Scene(kin), go.GraphicsOptions(kin.robot.n_dofs + 1))
+    x, y = np.round(camera.project(kin.endeff_tf.t()[None], W, H)[0]).astype(int)
+    r, g, b = image[y, x, :3].astype(int)
+    assert r > 120 and r > 2 * g and r > 2 * b, f"endeffector pixel {(r, g, b)} at {(x, y)}"
+
+
+def test_trail_is_drawn_as_a_line_of_its_colour_through_its_points(renderer):
+    kin = planar_kinematics()
+    camera = go.Camera()
+    camera.set_view(*gd.VIEW_PRESETS["iso"])
+    reach = go.robot_reach(kin.robot)
+    # a square path beside the arm, 0.2 reach above the ground
+    corners = reach * np.array([[0.5, -0.8, 0.2], [0.9, -0.8, 0.2], [0.9, -0.4, 0.2], [0.5, -0.4, 0.2], [0.5, -0.8, 0.2]])
+    path = np.vstack([np.linspace(a, b, 20) for a, b in zip(corners[:-1], corners[1:])])
+    camera.fit(np.vstack([path, kin.endeff_tf.t()]), W / H)
+    options = go.GraphicsOptions(kin.robot.n_dofs + 1)
+    with_trail = renderer.render(camera, go.Scene(kin, trail=path), options)
+    without = renderer.render(camera, go.Scene(kin), options)
+    trail_rgb = np.round(255 * np.asarray(gd.TRAIL_COLOR[:3])).astype(int)
+    for a, b in zip(corners[:-1], corners[1:]):
+        x, y = np.round(camera.project(((a + b) / 2)[None], W, H)[0]).astype(int)
+        window = with_trail[y - 1:y + 2, x - 1:x + 2, :3].astype(int)
+        assert np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1)), f"no trail pixel near {(x, y)}"
+        assert not np.any(np.all(np.abs(without[y - 1:y + 2, x - 1:x + 2, :3].astype(int) - trail_rgb) <= 3, axis=-1))
