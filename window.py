@@ -289,8 +289,11 @@ class MainWindow(QtWidgets.QMainWindow):
         endeff = session.kin.endeff_tf
         self.joints.show_q(q)
         self.dh_dock.show_q(q)
-        jac = session.kin.jacobian
-        self.readout.setText(pose_readout(endeff, manipulability(session.robot, q, jac)))
+        try:
+            measure = manipulability(session.robot, q, session.kin.jacobian)
+        except ValueError:  # arms under 6 joints probe their range: an unlimited slider has none
+            measure = math.nan
+        self.readout.setText(pose_readout(endeff, measure))
         if self.trail is not None and self.trail.add(endeff.t()):
             self.view.update()
         if self.following:

@@ -60,7 +60,7 @@ def test_e_twice_while_computing_cancels(app: QApplication) -> None:
         assert "workspace: computing" in win.status.text()
         press_e(win)
         assert win.workspace.state == CANCELLED
-        assert win.statusBar().currentMessage() == "workspace computation cancelled"
+        assert win.message_label.text() == "workspace computation cancelled"
         assert win.session.workspace is None and not win.session.options.show_workspace
         assert win.workspace.wait(30)  # the worker stops at its next chunk
         QTest.qWait(50)
@@ -102,7 +102,7 @@ def test_failure_is_shown_in_the_status_bar(app: QApplication, tmp_path) -> None
         press_e(win)
         wait_until(lambda: win.workspace.state == FAILED)
         message = "workspace failed: slider: prismatic joint 1 has no limits; cannot sample its range"
-        assert win.statusBar().currentMessage() == message
+        assert win.message_label.text() == message
         assert "workspace: failed" in win.status.text()
         assert win.isVisible()
     finally:

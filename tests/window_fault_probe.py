@@ -51,7 +51,8 @@ def main(case: str) -> None:
         win.view.repaint()
     elif case == "slider":
         win.session.set_joint = raiser
-        win.sliders[0][0].setValue(win.sliders[0][0].value() + 50)
+        slider = win.joints.rows[0].slider
+        slider.setValue(slider.value() + 50)
     elif case == "timer":
         win.session.step = raiser
         win.session.toggle_demo()
@@ -59,7 +60,7 @@ def main(case: str) -> None:
         QTest.qWait(300)
     app.processEvents()
     QTest.qWait(50)
-    print(json.dumps({"alive": win.isVisible(), "message": win.statusBar().currentMessage()}))
+    print(json.dumps({"alive": win.isVisible(), "message": win.message_label.text()}))
     win.close()
 
 
