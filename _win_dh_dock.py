@@ -6,7 +6,7 @@ emits ``robot_edited`` with a new immutable RobotParams built through the loader
 refused one stays in its cell, tinted, with the reason in the cell's tooltip and under
 the table, and the robot is unchanged.  Save as… writes through
 :func:`robot_writer.save_robot` with the opened file's text as template, so its comments
-and citations are kept.  The opened (or saved) file is watched: when it changes on disk
+and citations are kept (or a URDF through :func:`urdf.to_urdf` for a ``.urdf`` name).  The opened (or saved) file is watched: when it changes on disk
 it is reloaded and ``robot_loaded(robot, True)`` asks the window to keep the joint values.
 """
 from __future__ import annotations
@@ -22,13 +22,15 @@ import graphics_defs as gd
 from _qt_guard import guarded
 from dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable, variable_column
 from robot_defs import RobotDefinitionError, RobotParams, load_robot
+from fileio import write_atomic
 from robot_writer import save_robot
+from urdf import to_urdf
 
 _CONVENTION_TEXT = {
     "standard": "standard DH: A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i), joint i about z_{i-1}",
     "modified": "modified DH (Craig): A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i), joint i about z_i",
 }
-_FILE_FILTER = "Robot files (*.toml);;All files (*)"
+_FILE_FILTER = "Robot files (*.toml *.urdf);;TOML (*.toml);;URDF (*.urdf);;All files (*)"
 
 
 class DHTableDock(QtWidgets.QDockWidget):
@@ -192,11 +194,16 @@ class DHTableDock(QtWidgets.QDockWidget):
         return True
 
     def save_to(self, path: str | Path) -> bool:
-        """Write the shown robot to ``path`` (comments of the current file kept), then
-        watch that file.  Returns whether it was written."""
+        """Write the shown robot to ``path`` and watch that file: URDF for a ``.urdf``
+        name, else TOML keeping the comments of the current file when it is a TOML file.
+        Returns whether it was written."""
         path = Path(path)
         try:
-            save_robot(self.robot, path, template=self.text)
+            if path.suffix.lower() == ".urdf":
+                write_atomic(path, to_urdf(self.robot))
+            else:
+                toml_template = self.path is not None and self.path.suffix.lower() == ".toml"
+                save_robot(self.robot, path, template=self.text if toml_template else None)
             text = path.read_text(encoding="utf-8")
         except (OSError, ValueError) as exc:
             self.message.emit(f"cannot save: {exc}")

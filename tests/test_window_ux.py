@@ -145,6 +145,21 @@ def test_save_as_keeps_the_comments_and_watches_the_new_file(app: Any, planar: A
     assert planar.session.robot.dh_a[0] == 0.55
 
 
+def test_save_as_urdf_and_back_to_toml(app: Any, planar: Any, tmp_path: Path) -> None:
+    from robot_defs import load_robot
+
+    urdf = tmp_path / "planar3.urdf"
+    assert planar.dh_dock.save_to(urdf)
+    assert urdf.read_text().lstrip().startswith("<")
+    assert planar.dh_dock.open_file(urdf)
+    assert planar.session.robot.n_dofs == 3
+    toml = tmp_path / "from_urdf.toml"
+    assert planar.dh_dock.save_to(toml)  # a URDF is no TOML template: a fresh file
+    again = load_robot(toml)
+    np.testing.assert_array_equal(again.dh_a, planar.session.robot.dh_a)
+    np.testing.assert_array_equal(again.dh_alpha, planar.session.robot.dh_alpha)
+
+
 def test_open_loads_another_robot_at_home(app: Any, planar: Any) -> None:
     assert planar.dh_dock.open_file(ROOT / "robots" / "puma560.toml")
     assert planar.session.robot.name == "PUMA 560"
