@@ -189,6 +189,8 @@ KEY_BINDINGS = (
     ("C", "", "toggle_demo", None, "circle demo (differential IK) on / off"),
     ("Space", "", "toggle_pick", None, "pick demo: start, play / pause"),
     ("G", "", "toggle_target", None, "IK target frame and ghost on / off"),
+    ("N", "", "toggle_labels", None, "frame labels (numbers) on / off"),
+    ("M", "", "toggle_com", None, "link centres of mass on / off"),
     ("I", "", "move_target", (0, 1), "move IK target +x / -x"),  # (world axis, sign)
     ("K", "", "move_target", (0, -1), "move IK target +x / -x"),
     ("J", "", "move_target", (1, 1), "move IK target +y / -y"),

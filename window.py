@@ -450,6 +450,8 @@ class MainWindow(QtWidgets.QMainWindow):
             "save_screenshot": self.act_save_screenshot,
             "toggle_workspace": self.act_toggle_workspace,
             "toggle_vectors": self.act_toggle_vectors,
+            "toggle_labels": self.act_toggle_labels,
+            "toggle_com": self.act_toggle_com,
             "toggle_demo": self.act_toggle_demo,
             "toggle_pick": self.act_toggle_pick,
             "toggle_target": self.act_toggle_target,
@@ -549,6 +551,12 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def act_toggle_vectors(self, _: None) -> None:
         self.session.options.show_vectors = not self.session.options.show_vectors
+
+    def act_toggle_labels(self, _: None) -> None:
+        self.session.options.show_labels = not self.session.options.show_labels
+
+    def act_toggle_com(self, _: None) -> None:
+        self.session.options.show_com = not self.session.options.show_com
 
     def act_toggle_target(self, _: None) -> None:
         self.session.toggle_target()

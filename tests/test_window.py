@@ -415,3 +415,19 @@ def test_mouse_drag_orbits_and_ctrl_drag_moves_target(app: QApplication, window:
 def test_escape_closes_window(app: QApplication, window: Any) -> None:
     press(app, Qt.Key_Escape)
     assert not window.isVisible()
+
+
+@pytest.mark.window
+def test_n_toggles_frame_labels_and_m_centres_of_mass(app: QApplication, window: Any) -> None:
+    before = grab(window)
+    press(app, Qt.Key_N)
+    assert not window.session.options.show_labels
+    without_labels = grab(window)
+    origin = project(window, window.session.kin.h_tf[0].t())
+    assert changed_pixels(near(before, origin, 40), near(without_labels, origin, 40)) > 10  # the "0" is gone
+    press(app, Qt.Key_N)
+    assert window.session.options.show_labels
+    assert changed_pixels(before, grab(window)) == 0
+    press(app, Qt.Key_M)
+    assert window.session.options.show_com
+    assert changed_pixels(before, grab(window)) > 10
