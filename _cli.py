@@ -10,9 +10,9 @@ import argparse
 import math
 import os
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -31,6 +31,8 @@ from viewer_state import ViewerSession, compute_workspace, display_range, displa
 PROG = "robot-sim"
 DEFAULT_ROBOT = "anthropomorphic"
 DEMOS = ("circle", "pick")
+#: ``--motion`` choices: the physical motion modes of control.py.
+MOTIONS = ("passive", "pd", "pdg", "ct")
 
 
 class CliError(Exception):
@@ -61,6 +63,9 @@ class Config:
     duration: float = gd.RECORD_DEFAULT_DURATION_S  # --duration [s]
     fps: float = gd.RECORD_DEFAULT_FPS  # --fps
     annotate: int | None = None  # joint number whose DH parameters are drawn
+    motion: str | None = None  # --motion: physical motion mode
+    simulate: float = 0.0  # --duration with --motion and no --record: seconds simulated first [s]
+    gains: dict[str, Any] = field(default_factory=dict)  # --bandwidth, --damping, --kp, --kd
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -98,11 +103,47 @@ def build_parser() -> argparse.ArgumentParser:
                         help=f"render the scene offscreen to DIR/{gd.RECORD_FRAME_FORMAT.format(index=0)}, ... and exit")
     parser.add_argument("--duration", metavar="T",
                         help="with --record: seconds to record (default: the rest of the pick task, "
-                             f"else {gd.RECORD_DEFAULT_DURATION_S:g})")
+                             f"else {gd.RECORD_DEFAULT_DURATION_S:g}); with --motion and no --record: "
+                             "seconds to simulate before the screenshot or the window")
     parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {gd.RECORD_DEFAULT_FPS:g})")
     parser.add_argument("--annotate", metavar="J",
                         help="draw joint J's DH parameters (d, θ, a, α) between frames J-1 and J, J = 1..n")
+    parser.add_argument("--motion", choices=MOTIONS,
+                        help="simulate the arm: passive (falls), pd, pdg (PD + gravity), ct (computed torque)")
+    parser.add_argument("--bandwidth", metavar="HZ", help="controller bandwidth (closed-loop natural frequency) in Hz")
+    parser.add_argument("--damping", metavar="ZETA", help="controller damping ratio")
+    parser.add_argument("--kp", metavar="k1,k2,...", help="PD stiffness per joint (N·m/rad or N/m)")
+    parser.add_argument("--kd", metavar="k1,k2,...", help="PD damping per joint (N·m·s/rad or N·s/m)")
     return parser
+
+
+def gain_arguments(args: argparse.Namespace, robot: RobotParams) -> dict[str, Any]:
+    """--bandwidth, --damping, --kp, --kd as control.control_gains keywords."""
+    gains: dict[str, Any] = {}
+    for option in ("bandwidth", "damping"):
+        if getattr(args, option) is not None:
+            gains[option] = _number(f"--{option}", getattr(args, option), "a positive number", True)
+    for option in ("kp", "kd"):
+        if getattr(args, option) is not None:
+            gains[option] = parse_gains(getattr(args, option), robot, f"--{option}")
+    return gains
+
+
+def parse_gains(text: str, robot: RobotParams, option: str) -> np.ndarray:
+    """Parse ``--kp``/``--kd``: one finite gain >= 0 per joint, comma separated."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != robot.n_dofs:
+        raise CliError(f"{option}: robot '{robot.name}' has {robot.n_dofs} joints, got {len(parts)} gains")
+    gains = []
+    for i, part in enumerate(parts):
+        try:
+            value = float(part)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and value >= 0):
+            raise CliError(f"{option}: gain {i + 1} '{part}' is not a finite number >= 0")
+        gains.append(value)
+    return np.array(gains)
 
 
 def _positive_int(text: str) -> int:
@@ -226,6 +267,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         check_workspace(args.workspace, robot)
     pick_plan, time = pick_arguments(args, robot)
     record, duration, fps = record_arguments(args, pick_plan, time)
+    gains = gain_arguments(args, robot)
+    simulate = duration if args.motion is not None and record is None and args.duration is not None else 0.0
     return Config(
         robot_arg=args.robot,
         robot=robot,
@@ -242,6 +285,9 @@ def config_from_args(args: argparse.Namespace) -> Config:
         duration=duration,
         fps=fps,
         annotate=None if args.annotate is None else parse_joint_number("--annotate", args.annotate, robot.n_dofs),
+        motion=args.motion,
+        simulate=simulate,
+        gains=gains,
     )
 
 
@@ -281,9 +327,10 @@ def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: floa
     if args.duration is not None:
         duration = _number("--duration", args.duration, "a finite number of seconds >= 0", False)
     if args.record is None:
-        for option in ("duration", "fps"):
-            if getattr(args, option) is not None:
-                raise CliError(f"--{option}: needs --record DIR")
+        if args.fps is not None:
+            raise CliError("--fps: needs --record DIR")
+        if args.duration is not None and args.motion is None:
+            raise CliError("--duration: needs --record DIR, or --motion passive|pd|pdg|ct to simulate first")
         return None, duration, fps
     out = Path(args.record).expanduser().absolute()
     try:
@@ -312,11 +359,20 @@ def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
 
 
 def session_from_config(config: Config) -> ViewerSession:
-    """A ViewerSession with the command line's q, frames, wireframe and annotated joint
-    applied, framed for all of it."""
-    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1])
+    """A ViewerSession with the command line's q, motion (simulated for --duration),
+    frames, wireframe and annotated joint applied, framed for all of it."""
+    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1], gain_overrides=config.gains)
     if config.q is not None:
         session.set_q(config.q)
+    if config.motion is not None:
+        try:
+            session.set_motion(config.motion)
+            session.motion.simulate(config.simulate)
+        except ValueError as exc:  # e.g. dynamics refusing the robot's data
+            raise CliError(f"--motion {config.motion}: {exc}") from None
+        session.update_kinematics()
+        if session.motion.sim.stopped:
+            raise CliError(f"--motion {config.motion}: {session.motion.sim.stopped}")
     if config.frames is not None:
         session.options.show_only_frames(config.frames)
     if config.wireframe:

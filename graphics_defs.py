@@ -92,6 +92,8 @@ VECTOR_SHAFT_RADIUS_FRAC = 0.008  # shaft radius, fraction of the reach
 VECTOR_HEAD_RADIUS_FRAC = 0.022   # cone radius, fraction of the reach
 VECTOR_HEAD_LENGTH_FRAC = 0.06    # cone length, fraction of the reach (at most half the arrow)
 LINEAR_VELOCITY_COLOR = (1.00, 0.55, 0.00, 1.0)   # orange
+GHOST_APART_TOL = 0.01             # rad or m: physical modes draw the ghost beyond this error
+PULL_COLOR = (0.10, 0.95, 0.60, 1.0)              # mouse pull spring: endeffector -> anchor
 ANGULAR_VELOCITY_COLOR = (0.75, 0.20, 0.95, 1.0)  # purple
 
 # --- IK target: a small frame and a marker sphere ------------------------------
@@ -191,6 +193,7 @@ KEY_BINDINGS = (
     ("G", "", "toggle_target", None, "IK target frame and ghost on / off"),
     ("N", "", "toggle_labels", None, "frame labels (numbers) on / off"),
     ("M", "", "toggle_com", None, "link centres of mass on / off"),
+    ("M", "Shift", "cycle_motion", None, "next motion mode (kinematic, passive, PD, PD+g, CT)"),
     ("I", "", "move_target", (0, 1), "move IK target +x / -x"),  # (world axis, sign)
     ("K", "", "move_target", (0, -1), "move IK target +x / -x"),
     ("J", "", "move_target", (1, 1), "move IK target +y / -y"),
@@ -222,6 +225,7 @@ MOUSE_BINDINGS = (
     ("right / middle drag", "pan camera"),
     ("wheel", "zoom"),
     ("Ctrl + left drag", "move IK target in the view plane"),
+    ("Shift + left drag", "pull the endeffector with a spring (physical motion modes)"),
 )
 
 # Window geometry and command line limits
@@ -236,6 +240,16 @@ UNLIMITED_REVOLUTE_RANGE_DEG = 180.0 # slider range of a revolute joint without 
 UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without limits
 SLIDER_LABEL_FORMAT_REVOLUTE = "{name}: {value:+7.1f} deg"
 SLIDER_LABEL_FORMAT_PRISMATIC = "{name}: {value:+7.3f} m"
+
+# Dynamics in the dock: per-joint effort bars (fraction of the effort limit) and the
+# flash of a joint that hits a limit
+EFFORT_BAR_STEPS = 1000              # QProgressBar range 0..STEPS: |effort| / limit
+EFFORT_BAR_HEIGHT_PX = 16
+EFFORT_BAR_FORMAT = "{percent:+.0f} %"  # the bar's text: signed effort, percent of the limit
+EFFORT_BAR_COLOR = "#3a8ee6"         # blue: within the limit
+EFFORT_BAR_SATURATED_COLOR = "#e03030"  # red: saturated at the effort limit
+LIMIT_FLASH_COLOR = "#ff5050"        # joint label colour after a limit hit
+LIMIT_FLASH_MS = 600
 
 # Status bar
 STATUS_FORMAT = "{robot} | {fps}"  # permanent, right; one-off messages on its left

@@ -42,12 +42,16 @@ CONVENTIONS = (CONVENTION_STANDARD, CONVENTION_MODIFIED)
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
-TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool"}
+TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive"}
 DH_KEYS = ("a", "alpha", "d", "theta")
 FRAME_KEYS = {"xyz", "rpy"}
 DEFAULT_COM_FRACTION = 0.5
+#: Keys of the optional top-level ``[control]`` table (gains of control.py): ``bandwidth``
+#: closed-loop natural frequency in Hz (> 0), ``damping`` ratio (> 0), ``kp`` and ``kd``
+#: per-joint PD gains (n numbers ≥ 0; N·m/rad and N·m·s/rad, or N/m and N·s/m).
+CONTROL_KEYS = {"bandwidth", "damping", "kp", "kd"}
 
 # Bounds of a robot file (README, "Robot file format").  With at most MAX_JOINTS joints,
 # lengths within ±MAX_LENGTH and angles within ±MAX_ANGLE_DEG, forward kinematics is
@@ -102,6 +106,7 @@ class RobotParams:
     convention: str = CONVENTION_STANDARD
     inertials: LinkInertials | None = None
     drives: Drives | None = None
+    control: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:
@@ -513,6 +518,7 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise check.fail("description", f"expected a string, got {clip_repr(description)}")
+    control = _parse_control(check, data["control"], len(jtypes)) if "control" in data else {}
 
     return RobotParams(
         name=name,
@@ -532,4 +538,26 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         convention=convention,
         inertials=inertials,
         drives=drives,
+        control=control,
     )
+
+
+def _parse_control(check: _Checker, table: Any, n: int) -> dict[str, Any]:
+    """The validated ``[control]`` table: positive ``bandwidth``/``damping``, kp/kd ≥ 0 of length n."""
+    if not isinstance(table, dict):
+        raise check.fail("control", f"expected a table with keys {', '.join(sorted(CONTROL_KEYS))}, got {clip_repr(table)}")
+    check.keys(table, CONTROL_KEYS, "control")
+    control: dict[str, Any] = {}
+    for key in ("bandwidth", "damping"):
+        if key in table:
+            value = check.number(table[key], f"control.{key}")
+            if value <= 0.0:
+                raise check.fail(f"control.{key}", f"expected a positive number, got {clip_repr(table[key])}")
+            control[key] = value
+    for key in ("kp", "kd"):
+        if key in table:
+            gains = check.vector(table[key], n, f"control.{key}")
+            if min(gains) < 0.0:
+                raise check.fail(f"control.{key}", f"gains must be >= 0, got {clip_repr(table[key])}")
+            control[key] = tuple(gains)
+    return control

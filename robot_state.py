@@ -156,6 +156,16 @@ class RobotState:
         """Set the desired joint vector (validated like :meth:`set_q`)."""
         self._set_q_of(self.joint_state_des, values, "q_des")
 
+    def _qdd_of(self, state: JointState) -> FloatArray:
+        return np.where(self._revolute, state.thdd, state.ddd)
+
+    def _set_qdd_of(self, state: JointState, values: ArrayLike, what: str) -> None:
+        qdd = check_joint_vector(values, self.robot.n_dofs, what)
+        if qdd.ndim != 1:
+            raise ValueError(f"{what} must be one vector of shape ({self.robot.n_dofs},), got {qdd.shape}")
+        state.thdd[:] = np.where(self._revolute, qdd, 0.0)
+        state.ddd[:] = np.where(self._revolute, 0.0, qdd)
+
     def qd(self) -> FloatArray:
         """Current joint velocities (n,): rad/s (revolute) and m/s (prismatic)."""
         return self._qd_of(self.joint_state)
@@ -163,3 +173,27 @@ class RobotState:
     def set_qd(self, values: ArrayLike) -> None:
         """Set the current joint velocities (validated like :meth:`set_q`)."""
         self._set_qd_of(self.joint_state, values, "qd")
+
+    def qdd(self) -> FloatArray:
+        """Current joint accelerations (n,): rad/s² (revolute) and m/s² (prismatic)."""
+        return self._qdd_of(self.joint_state)
+
+    def set_qdd(self, values: ArrayLike) -> None:
+        """Set the current joint accelerations (validated like :meth:`set_q`)."""
+        self._set_qdd_of(self.joint_state, values, "qdd")
+
+    def qd_des(self) -> FloatArray:
+        """Desired joint velocities (n,)."""
+        return self._qd_of(self.joint_state_des)
+
+    def set_qd_des(self, values: ArrayLike) -> None:
+        """Set the desired joint velocities (validated like :meth:`set_q`)."""
+        self._set_qd_of(self.joint_state_des, values, "qd_des")
+
+    def qdd_des(self) -> FloatArray:
+        """Desired joint accelerations (n,) (the feed-forward of computed-torque control)."""
+        return self._qdd_of(self.joint_state_des)
+
+    def set_qdd_des(self, values: ArrayLike) -> None:
+        """Set the desired joint accelerations (validated like :meth:`set_q`)."""
+        self._set_qdd_of(self.joint_state_des, values, "qdd_des")

@@ -27,6 +27,7 @@ from kinematics import (
     solve_ik,
     workspace_points,
 )
+from motion import Motion
 from pick_demo import PickDemo
 from pick_task import TaskPlan
 from robot_defs import JTYPE_PRISMATIC, RobotParams
@@ -105,6 +106,11 @@ class ViewerSession:
     workspace: Any = None
     demo: DemoCircle | None = None
     pick: PickDemo | None = None
+    #: Gain overrides of the physical motion modes (control.control_gains keywords).
+    gain_overrides: dict[str, Any] = field(default_factory=dict)
+    #: Joint-limit arrivals of the simulation since the window last took them.
+    limit_events: list[Any] = field(default_factory=list)
+    _motion: Motion | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.state = RobotState(self.robot)
@@ -137,15 +143,40 @@ class ViewerSession:
         self.camera.reset()
         self.camera.fit(go.visible_points(self.scene(), self.options), self.aspect)
 
+    # ---- motion mode (kinematic or simulated, see motion.py) ----
+    @property
+    def motion(self) -> Motion:
+        """The robot's motion modes and simulation, built on first use (dynamics are
+        imported and the gains computed only when a physical mode is wanted)."""
+        if self._motion is None:
+            self._motion = Motion(self.robot, self.state, self.gain_overrides)
+        return self._motion
+
+    @property
+    def physical(self) -> bool:
+        """True while the arm is simulated (any motion mode but kinematic)."""
+        return self._motion is not None and self._motion.physical
+
+    def set_motion(self, mode: str) -> None:
+        """Switch the motion mode (control.MOTION_MODES); the demo keeps running."""
+        self.motion.set_mode(mode)
+        self.update_kinematics()
+
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
         """Set current and desired q (SI) at rest, e.g. from sliders; stops any motion.
+        In a physical mode only the desired q is set: the controller moves the arm.
 
         A shown IK target snaps to the new endeffector pose.
         """
         self.demo = None
         if self.pick is not None:
             self.pick.playing = False
+        if self.physical:
+            self.state.set_q_des(q)
+            self.state.set_qd_des(np.zeros(self.robot.n_dofs))
+            self.update_kinematics()
+            return
         self.state.set_q(q)
         self.state.set_q_des(q)
         self.state.set_qd(np.zeros(self.robot.n_dofs))
@@ -161,8 +192,13 @@ class ViewerSession:
         self.set_q(q)
 
     def moving(self) -> bool:
-        """True while the current q has not reached the desired q, or the demo runs."""
-        if self.demo is not None or (self.pick is not None and self.pick.playing):
+        """True while the current q has not reached the desired q, a demo runs, or the
+        arm is simulated (until the simulation stops)."""
+        if self.pick is not None and self.pick.playing:
+            return True
+        if self.physical:
+            return self.motion.sim.stopped is None
+        if self.demo is not None:
             return True
         return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > gd.ANIM_ARRIVED_TOL))
 
@@ -222,34 +258,50 @@ class ViewerSession:
         """Start the circle demo at the current endeffector position, or stop it."""
         if self.demo is not None:
             self.demo = None
-            self.state.set_qd(np.zeros(self.robot.n_dofs))
+            if self.physical:
+                self.state.set_qd_des(np.zeros(self.robot.n_dofs))
+            else:
+                self.state.set_qd(np.zeros(self.robot.n_dofs))
             self.update_kinematics()
             return False
-        start = self.kin.endeff_tf.t()
+        start = (self.ghost if self.physical else self.kin).endeff_tf.t()
         self.demo = DemoCircle(center=start - np.array([gd.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0]))
         return True
 
     def step_demo(self, dt: float) -> None:
-        """Advance the circle demo by ``dt`` s: qd from diff_ik_velocity with position feedback."""
+        """Advance the circle demo by ``dt`` s: qd from diff_ik_velocity with position
+        feedback.  Kinematic mode moves the arm; a physical mode moves the desired state
+        (q_des, qd_des), which the controller tracks."""
         self.demo.time += dt
         point, velocity = self.demo.point_and_velocity()
-        command = velocity + gd.DEMO_FEEDBACK_GAIN * (point - self.kin.endeff_tf.t())
-        q = self.state.q()
+        physical = self.physical
+        ee = (self.ghost if physical else self.kin).endeff_tf.t()
+        command = velocity + gd.DEMO_FEEDBACK_GAIN * (point - ee)
+        q = self.state.q_des() if physical else self.state.q()
         qd = diff_ik_velocity(self.robot, q, command)
         q_new = np.clip(q + qd * dt, self.robot.q_min, self.robot.q_max)
-        self.state.set_q(q_new)
         self.state.set_q_des(q_new)
-        self.state.set_qd((q_new - q) / dt)
+        if physical:
+            self.state.set_qd_des((q_new - q) / dt)
+        else:
+            self.state.set_q(q_new)
+            self.state.set_qd((q_new - q) / dt)
         self.update_kinematics()
 
     def step(self, dt: float) -> None:
-        """Advance whatever moves (demo or animation toward the ghost) by ``dt`` s."""
+        """Advance whatever moves (pick demo, circle demo, simulation, animation toward the
+        ghost) by ``dt`` s of wall-clock time.  The pick demo plays its planned joint
+        motion kinematically in every motion mode."""
         if self.pick is not None:
             self.pick.step(dt)
             self.show_pick_at(self.pick.time)
-        elif self.demo is not None:
+            return
+        if self.demo is not None:
             self.step_demo(dt)
-        else:
+        if self.physical:
+            self.limit_events.extend(self.motion.advance(dt))
+            self.update_kinematics()
+        elif self.demo is None:
             self.step_animation(dt)
 
     # ---- pick demo (planned task, scrubbed or played) ----
@@ -287,14 +339,48 @@ class ViewerSession:
             arrows.append((centre + (vec / norm * radius if norm > 0.0 else 0.0), vec, color))
         return arrows
 
+    def ghost_apart(self) -> bool:
+        """In a physical mode: True while the arm is visibly away from its desired state
+        (then the ghost shows the set point)."""
+        if not self.physical:
+            return False
+        return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > gd.GHOST_APART_TOL))
+
+    def pull_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
+        """The mouse pull's spring as an arrow from the endeffector to its anchor (world m)."""
+        if not self.physical or self.motion.pull_point is None:
+            return []
+        origin = self.kin.endeff_tf.t()
+        return [(origin, self.motion.pull_point - origin, gd.PULL_COLOR)]
+
+    def start_pull(self) -> None:
+        """Begin pulling the endeffector (physical modes only; ValueError otherwise)."""
+        if not self.physical:
+            raise ValueError("pulling needs a physical motion mode (press M)")
+        self.motion.start_pull()
+
+    def move_pull_in_view(self, dx_px: float, dy_px: float, height_px: int) -> None:
+        """Move the pull's anchor by a mouse drag of (dx, dy) pixels in the plane through it
+        facing the camera, so that it stays under the cursor (perspective included)."""
+        if not self.physical or self.motion.pull_point is None:
+            return
+        point = self.motion.pull_point
+        right, up = self.camera.view_plane_axes()
+        eye = np.asarray(self.camera.eye())
+        forward = np.asarray(self.camera.target) - eye
+        distance = float(np.linalg.norm(forward))
+        depth = float((point - eye) @ forward) / distance
+        scale = self.camera.world_per_pixel(height_px) * depth / distance
+        self.motion.move_pull(point + (dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
+
     def scene(self) -> Any:
         """The graphics_objects.Scene of the current state."""
         return go.Scene(
             self.kin,
-            ghost=self.ghost if self.target_tf is not None else None,
+            ghost=self.ghost if self.target_tf is not None or self.ghost_apart() else None,
             target_tf=self.target_tf,
             target_reachable=self.target_reachable,
-            vectors=self.velocity_vectors() if self.options.show_vectors else [],
+            vectors=(self.velocity_vectors() if self.options.show_vectors else []) + self.pull_vectors(),
             workspace=self.workspace,
             task=None if self.pick is None else self.pick.task_scene(),
         )
@@ -307,6 +393,8 @@ class ViewerSession:
             text += gd.STATUS_TARGET_UNREACHABLE.format(
                 pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err)
             )
+        if self._motion is not None:
+            text += " | " + self._motion.status_text()
         return text
 
 

@@ -32,12 +32,14 @@ from _qt_guard import guarded, install_excepthook
 from _window_pick import PickPanel, PlotDock
 from _win_dh_dock import DHTableDock
 from _win_joints import JointPanel
+from _win_motion import MotionPanel
 from _win_overlays import HelpOverlay, ViewInfo, ViewInfoOverlay
 from dh_table import carry_joint_values
 from fileio import FileWriteError, write_atomic
 from kinematics import manipulability
 from pick_demo import plan_for
 from readout import pose_readout
+from control import MOTION_LABELS, MOTION_MODES
 from robot_defs import RobotDefinitionError, RobotParams, available_robots, resolve_robot_path
 from trail import Trail
 from viewer_state import ViewerSession, compute_workspace
@@ -132,10 +134,12 @@ class GLView(QtWidgets.QOpenGLWidget):
     def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
         self.drag_pos = event.pos()
         self.setFocus()
+        self.window_.press(event.buttons(), event.modifiers())
 
     @guarded
     def mouseReleaseEvent(self, event: QtGui.QMouseEvent) -> None:
         self.drag_pos = None
+        self.window_.release()
 
     @guarded
     def mouseMoveEvent(self, event: QtGui.QMouseEvent) -> None:
@@ -195,9 +199,9 @@ class MainWindow(QtWidgets.QMainWindow):
             self.act_toggle_workspace()
         if config.demo == "circle":
             self.session.toggle_demo()
-            self.start_motion()
         if self.session.pick is not None:
             self.show_pick()
+        self.start_motion()
 
     # ---- docks ----
     def build_dock(self) -> None:
@@ -214,6 +218,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.robot_combo.setCurrentText(self.config.robot_arg)
         self.robot_combo.currentTextChanged.connect(self.choose_robot)
         layout.addWidget(self.robot_combo)
+        self.motion_panel = MotionPanel()
+        self.motion_panel.mode_chosen.connect(self.choose_motion)
+        layout.addWidget(self.motion_panel)
         self.joints = JointPanel()
         self.joints.joint_moved.connect(self.joint_moved)
         self.joints.q_requested.connect(self.set_q)
@@ -259,6 +266,8 @@ class MainWindow(QtWidgets.QMainWindow):
         """Rebuild the joint rows, the DH table and the frame list for the session's robot."""
         robot = self.session.robot
         self.joints.set_robot(robot)
+        self.motion_panel.set_robot(robot.n_dofs)
+        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
         self.dh_dock.set_robot(robot, self.session.state.q())
         annotated = self.session.options.annotate_joint  # --annotate J: its row selected
         if annotated is not None and self.dh_dock.selected_joint() != annotated - 1:
@@ -287,7 +296,7 @@ class MainWindow(QtWidgets.QMainWindow):
         session = self.session
         q = session.state.q()
         endeff = session.kin.endeff_tf
-        self.joints.show_q(q)
+        self.joints.show_q(session.state.q_des() if session.physical else q)  # physical: the set point
         self.dh_dock.show_q(q)
         try:
             measure = manipulability(session.robot, q, session.kin.jacobian)
@@ -304,6 +313,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.frames_list.item(i).setCheckState(Qt.Checked if shown else Qt.Unchecked)
         self.frames_list.blockSignals(False)
         self.sync_pick()
+        self.sync_motion()
         self.update_view_info()
         self.view.update()
 
@@ -371,7 +381,9 @@ class MainWindow(QtWidgets.QMainWindow):
         joint by joint), the camera and the frame choice stay."""
         old = self.session
         self.timer.stop()
-        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1))
+        # per-joint gains of the command line belong to the robot it named
+        gains = {k: v for k, v in self.config.gains.items() if k in ("bandwidth", "damping")}
+        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1), gain_overrides=gains)
         for flag in ("wireframe", "alpha", "show_vectors"):
             setattr(self.session.options, flag, getattr(old.options, flag))
         self.session.camera.orthographic = old.camera.orthographic
@@ -391,10 +403,43 @@ class MainWindow(QtWidgets.QMainWindow):
 
     @guarded
     def joint_moved(self, joint: int, value: float) -> None:
-        """A slider or box moved joint ``joint`` to ``value`` (rad or m)."""
-        self.timer.stop()
-        self.session.set_joint(joint, value)
+        """A slider or box moved joint ``joint`` to ``value`` (rad or m); in a physical
+        motion mode it sets the controller's desired value."""
+        if self.session.physical:
+            q_des = self.session.state.q_des()
+            q_des[joint] = value
+            self.session.set_q(q_des)
+            self.start_motion()
+        else:
+            self.timer.stop()
+            self.session.set_joint(joint, value)
         self.sync_widgets()
+
+    @guarded
+    def choose_motion(self, mode: str) -> None:
+        """Motion chooser: switch the mode; a failure (e.g. dynamics refusing the robot)
+        stays kinematic and says why."""
+        try:
+            self.session.set_motion(mode)
+        except ValueError as exc:
+            self.message(f"motion {MOTION_LABELS[mode]}: {exc}")
+            if self.session.physical:
+                self.session.set_motion("kinematic")
+        else:
+            motion = self.session.motion
+            note = " (inertials estimated from the link geometry: the file has none)" if motion.estimated else ""
+            self.message(f"motion: {motion.label}{note}")
+        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
+        self.start_motion()
+        self.sync_widgets()
+
+    def sync_motion(self) -> None:
+        """Effort bars, and a flash and a message for each joint-limit arrival."""
+        for event in self.session.limit_events:
+            self.motion_panel.flash(event.joint)
+            self.message(f"joint {event.joint + 1} hit its {event.side} limit at t = {event.time:.3f} s")
+        self.session.limit_events.clear()
+        self.motion_panel.sync(self.session.motion if self.session.physical else None)
 
     @guarded
     def set_q(self, q: np.ndarray) -> None:
@@ -463,6 +508,7 @@ class MainWindow(QtWidgets.QMainWindow):
             "toggle_trail": self.act_toggle_trail,
             "annotate_next": self.act_annotate_next,
             "go_home": self.act_go_home,
+            "cycle_motion": self.act_cycle_motion,
             "open_robot": lambda _: self.dh_dock.open_dialog(),
             "save_robot_as": lambda _: self.dh_dock.save_dialog(),
         }
@@ -558,6 +604,11 @@ class MainWindow(QtWidgets.QMainWindow):
     def act_toggle_com(self, _: None) -> None:
         self.session.options.show_com = not self.session.options.show_com
 
+    def act_cycle_motion(self, _: None) -> None:
+        """Next motion mode (through the chooser, which does the switching)."""
+        combo = self.motion_panel.combo
+        combo.setCurrentIndex((combo.currentIndex() + 1) % len(MOTION_MODES))
+
     def act_toggle_target(self, _: None) -> None:
         self.session.toggle_target()
 
@@ -579,13 +630,30 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def drag(self, dx: int, dy: int, buttons: Qt.MouseButtons, modifiers: Qt.KeyboardModifiers) -> None:
         """Mouse drag of (dx, dy) pixels: left orbits, Ctrl+left moves the IK target,
-        right or middle pans."""
-        if buttons & Qt.LeftButton and modifiers & Qt.ControlModifier:
+        Shift+left moves the pull's anchor (physical modes), right or middle pans."""
+        if buttons & Qt.LeftButton and self.session.physical and self.session.motion.pull_point is not None:
+            self.session.move_pull_in_view(dx, dy, self.view.pixel_size()[1])
+        elif buttons & Qt.LeftButton and modifiers & Qt.ControlModifier:
             self.move_target_by(lambda: self.session.move_target_in_view(dx, dy, self.view.pixel_size()[1]))
         elif buttons & Qt.LeftButton:
             self.session.camera.orbit(-dx * gd.MOUSE_ORBIT_DEG_PER_PX, dy * gd.MOUSE_ORBIT_DEG_PER_PX)
         elif buttons & (Qt.RightButton | Qt.MiddleButton):
             self.session.camera.pan(dx, dy, self.view.pixel_size()[1])
+        self.view.update()
+
+    def press(self, buttons: Qt.MouseButtons, modifiers: Qt.KeyboardModifiers) -> None:
+        """Shift+left press in a physical mode starts pulling the endeffector."""
+        if buttons & Qt.LeftButton and modifiers & Qt.ShiftModifier:
+            if self.session.physical:
+                self.session.start_pull()
+                self.start_motion()
+            else:
+                self.message("pulling needs a physical motion mode: press M")
+
+    def release(self) -> None:
+        """Mouse released: let go of the endeffector."""
+        if self.session.physical:
+            self.session.motion.end_pull()
         self.view.update()
 
     # ---- IK target, animation, demo ----
@@ -607,7 +675,10 @@ class MainWindow(QtWidgets.QMainWindow):
     @guarded
     def tick(self) -> None:
         now = time.monotonic()
-        dt = min(max(now - self.last_tick, 1e-3), 4 * gd.ANIM_INTERVAL_MS / 1000.0)
+        elapsed = now - self.last_tick
+        # the simulation keeps wall-clock time itself (Simulation.advance caps a lag);
+        # the kinematic animation takes bounded steps
+        dt = elapsed if self.session.physical else min(max(elapsed, 1e-3), 4 * gd.ANIM_INTERVAL_MS / 1000.0)
         self.last_tick = now
         self.session.step(dt)
         if not self.session.moving():

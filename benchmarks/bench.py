@@ -41,6 +41,7 @@ from bench_trajectory import bench_trajectory  # noqa: E402
 from dh_convert import to_modified, to_standard  # noqa: E402
 from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
 from robot_state import RobotState  # noqa: E402
+import bench_sim  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
 
 ROBOT = "humanoid7"
 IK_TARGETS = 200
@@ -322,6 +323,7 @@ def main() -> None:
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
     bench_trajectory(table, load_robot("ur5"), rng, measure, median_iqr, ms, us)
+    bench_sim.bench_simulation(table, measure, median_iqr, us)
     if not args.skip_render:
         bench_render(table, robot)
         bench_screenshot(table)
