@@ -16,7 +16,7 @@ import graphics_defs as gd
 from control import MOTION_LABELS, MOTION_MODES
 from test_window import app, grab, open_window, press, project, wait_until  # noqa: F401 (app is a fixture)
 
-import window as viewer_window  # noqa: E402
+from _win_overlays import help_lines  # noqa: E402
 
 
 @pytest.fixture
@@ -52,7 +52,7 @@ def test_m_cycles_the_motion_modes_and_the_help_lists_it(app: QApplication, clos
     press(app, Qt.Key_M)
     assert win.session.motion.mode == "passive" and win.motion_panel.effort_box.isVisible()
     assert win.motion_panel.combo.currentText() == MOTION_LABELS["passive"]
-    assert any(line.startswith("M ") and "computed torque" in line for line in viewer_window.help_lines())
+    assert any(line.startswith("M ") and "computed torque" in line for line in help_lines())
 
 
 @pytest.mark.window
