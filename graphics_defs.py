@@ -225,7 +225,7 @@ MOUSE_BINDINGS = (
     ("right / middle drag", "pan camera"),
     ("wheel", "zoom"),
     ("Ctrl + left drag", "move IK target in the view plane"),
-    ("Shift + left drag", "pull the endeffector with a spring (physical motion modes)"),
+    ("Shift + left drag", "pull the endeffector (physical motion modes)"),
 )
 
 # Window geometry and command line limits

@@ -40,19 +40,19 @@ def _pixel(win: Any, point: np.ndarray) -> QPoint:
 
 
 @pytest.mark.window
-def test_m_cycles_the_motion_modes_and_the_help_lists_it(app: QApplication, closing: list[Any]) -> None:
+def test_shift_m_cycles_the_motion_modes_and_the_help_lists_it(app: QApplication, closing: list[Any]) -> None:
     win = _open(app, closing)
     assert win.motion_panel.combo.currentText() == "kinematic" and not win.session.physical
     assert not win.motion_panel.effort_box.isVisible()
     seen = []
     for _ in MOTION_MODES:
-        press(app, Qt.Key_M)
+        press(app, Qt.Key_M, Qt.ShiftModifier)
         seen.append(win.motion_panel.combo.currentData())
     assert seen == [*MOTION_MODES[1:], MOTION_MODES[0]]
-    press(app, Qt.Key_M)
+    press(app, Qt.Key_M, Qt.ShiftModifier)
     assert win.session.motion.mode == "passive" and win.motion_panel.effort_box.isVisible()
     assert win.motion_panel.combo.currentText() == MOTION_LABELS["passive"]
-    assert any(line.startswith("M ") and "computed torque" in line for line in help_lines())
+    assert any(line.startswith("Shift+M ") and "motion mode" in line for line in help_lines())
 
 
 @pytest.mark.window
