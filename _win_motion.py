@@ -1,6 +1,6 @@
 """The dock's motion panel: the motion-mode chooser and one effort bar per joint.
 
-The chooser lists control.MOTION_MODES (the window's ``M`` key steps through it); the bars
+The chooser lists control.MOTION_MODES (the window's ``Shift+M`` steps through it); the bars
 show each joint's applied effort as a fraction of its effort limit (motion.Motion's
 ``effort_scale`` for a joint without one), red while the drive saturates, and a joint's
 number flashes after it hits a joint limit.  Qt widgets only: the physics lives in

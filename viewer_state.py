@@ -356,7 +356,7 @@ class ViewerSession:
     def start_pull(self) -> None:
         """Begin pulling the endeffector (physical modes only; ValueError otherwise)."""
         if not self.physical:
-            raise ValueError("pulling needs a physical motion mode (press M)")
+            raise ValueError("pulling needs a physical motion mode (press Shift+M)")
         self.motion.start_pull()
 
     def move_pull_in_view(self, dx_px: float, dy_px: float, height_px: int) -> None:

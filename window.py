@@ -648,7 +648,7 @@ class MainWindow(QtWidgets.QMainWindow):
                 self.session.start_pull()
                 self.start_motion()
             else:
-                self.message("pulling needs a physical motion mode: press M")
+                self.message("pulling needs a physical motion mode: press Shift+M")
 
     def release(self) -> None:
         """Mouse released: let go of the endeffector."""
