@@ -7,6 +7,7 @@ Bad input raises :class:`CliError`; ``simulator.main`` reports it as one
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import re
@@ -25,6 +26,7 @@ from messages import clip
 from robot_defs import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams, load_robot
 import recording
 from pick_demo import plan_for
+from pick_sim import simulate_pick
 from pick_task import TaskPlan
 from viewer_state import ViewerSession, compute_workspace, display_range, display_scale
 
@@ -58,6 +60,8 @@ class Config:
     workspace: int
     demo: str | None
     pick_plan: TaskPlan | None = None  # --demo pick: planned before any window opens
+    pick_effort: np.ndarray | None = None  # --demo pick --motion: efforts of the simulated run
+    pick_report: str | None = None  # --demo pick --motion: tracking errors, one line
     time: float = 0.0  # --time: pick demo time shown first [s]
     record: Path | None = None  # --record DIR
     duration: float = gd.RECORD_DEFAULT_DURATION_S  # --duration [s]
@@ -265,7 +269,7 @@ def config_from_args(args: argparse.Namespace) -> Config:
         raise CliError(str(exc)) from None
     if args.workspace:
         check_workspace(args.workspace, robot)
-    pick_plan, time = pick_arguments(args, robot)
+    pick_plan, time, pick_effort, pick_report = pick_arguments(args, robot)
     record, duration, fps = record_arguments(args, pick_plan, time)
     gains = gain_arguments(args, robot)
     simulate = duration if args.motion is not None and record is None and args.duration is not None else 0.0
@@ -280,6 +284,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         workspace=args.workspace,
         demo=args.demo,
         pick_plan=pick_plan,
+        pick_effort=pick_effort,
+        pick_report=pick_report,
         time=time,
         record=record,
         duration=duration,
@@ -301,19 +307,31 @@ def _number(option: str, text: str, what: str, positive: bool) -> float:
     return value
 
 
-def pick_arguments(args: argparse.Namespace, robot: RobotParams) -> tuple[TaskPlan | None, float]:
-    """--task and --time of the pick demo: the plan (made here, so an impossible task is
-    one line before anything opens or moves) and the start time [s]."""
+def pick_arguments(
+    args: argparse.Namespace, robot: RobotParams
+) -> tuple[TaskPlan | None, float, np.ndarray | None, str | None]:
+    """--task, --time and --motion of the pick demo: the plan (made here, so an impossible
+    task is one line before anything opens or moves), the start time [s] and, with
+    --motion, the plan as the simulated controller ran it, its efforts and its one-line
+    tracking report."""
     for option in ("task", "time"):
         if getattr(args, option) is not None and args.demo != "pick":
             raise CliError(f"--{option}: needs --demo pick")
     if args.demo != "pick":
-        return None, 0.0
+        return None, 0.0, None, None
     time = 0.0 if args.time is None else _number("--time", args.time, "a finite time in seconds >= 0", False)
     try:
-        return plan_for(robot, args.task), time
+        plan = plan_for(robot, args.task)
     except ValueError as exc:  # TaskDefinitionError, TaskError
         raise CliError(str(exc)) from None
+    if args.motion is None:
+        return plan, time, None, None
+    try:
+        run = simulate_pick(plan, args.motion)
+    except ValueError as exc:  # e.g. dynamics refusing the robot's data
+        raise CliError(f"--motion {args.motion}: {exc}") from None
+    simulated = dataclasses.replace(plan, trajectory=run.motion, placed_pose=run.placed_pose)
+    return simulated, time, run.effort, run.summary()
 
 
 def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: float) -> tuple[Path | None, float, float]:
@@ -364,7 +382,7 @@ def session_from_config(config: Config) -> ViewerSession:
     session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1], gain_overrides=config.gains)
     if config.q is not None:
         session.set_q(config.q)
-    if config.motion is not None:
+    if config.motion is not None and config.pick_plan is None:  # a pick run is replayed
         try:
             session.set_motion(config.motion)
             session.motion.simulate(config.simulate)
@@ -378,7 +396,7 @@ def session_from_config(config: Config) -> ViewerSession:
     if config.wireframe:
         session.options.toggle_wireframe()
     if config.pick_plan is not None:
-        session.start_pick(config.pick_plan, config.time)
+        session.start_pick(config.pick_plan, config.time, config.pick_effort)
     session.options.annotate_joint = config.annotate
     session.fit_camera()
     return session

@@ -56,6 +56,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         config = config_from_args(args)
         if robot_actions(args, config.robot) and config.screenshot is None:
             return 0
+        if config.pick_report is not None:
+            print(config.pick_report)
         if config.record is not None:
             frames = write_recording(config)
             print(f"wrote {len(frames)} frames to {config.record}")

@@ -201,6 +201,8 @@ class MainWindow(QtWidgets.QMainWindow):
             self.session.toggle_demo()
         if self.session.pick is not None:
             self.show_pick()
+            if config.pick_report is not None:
+                self.message(config.pick_report)
         self.start_motion()
 
     # ---- docks ----

@@ -68,3 +68,18 @@ def test_play_advances_time(pick_window):
     paused = demo.time
     QTest.qWait(200)
     assert demo.time == paused
+
+
+def test_simulated_pick_plots_effort(app):  # noqa: F811
+    win = open_window(app, "--robot", "ur5", "--demo", "pick", "--motion", "ct")
+    try:
+        demo = win.session.pick
+        assert demo.effort is not None
+        assert win.plot_dock.plots["effort"].isVisible()
+        curves = win.plot_dock.curves["effort"]
+        assert len(curves) == 6
+        np.testing.assert_array_equal(curves[0].yData, demo.effort[:, 0])
+        np.testing.assert_array_equal(curves[0].xData, demo.plan.trajectory.t)
+    finally:
+        win.close()
+        win.deleteLater()
