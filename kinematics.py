@@ -168,7 +168,13 @@ class _ChainModel:
         """Indices of the position rows of ``robot``'s Jacobian (the robot of this model)
         that are not structurally zero, found once from a few random in-range configurations."""
         if self._moving_rows is None:
-            probe = random_configurations(robot, 8, np.random.default_rng(0))
+            # Which rows move is a property of the structure, not of the joint ranges, so
+            # unlimited joints are probed over a unit range about home.
+            lo, hi = np.array(robot.q_min), np.array(robot.q_max)
+            unlimited = ~np.isfinite(lo) | ~np.isfinite(hi)
+            lo[unlimited] = robot.q_home[unlimited] - 1.0
+            hi[unlimited] = robot.q_home[unlimited] + 1.0
+            probe = lo + (hi - lo) * np.random.default_rng(0).random((8, robot.n_dofs))
             jac = jacobian(robot, probe)
             self._moving_rows = np.flatnonzero(np.abs(jac[:, :3, :]).max(axis=(0, 2)) > 1e-9)
         return self._moving_rows

@@ -250,3 +250,16 @@ def test_annotate_draws_the_joint_s_dh_parameters(tmp_path: Path) -> None:
         result = run("--robot", "puma560", "--annotate", bad, "--screenshot", str(tmp_path / "bad.png"))
         assert result.returncode == 2
         assert result.stderr == f"robot-sim: error: --annotate: expected a joint number 1..6, got '{bad}'\n"
+
+
+def test_table_into_a_closed_pipe_exits_without_a_traceback() -> None:
+    """`robot-sim --list-robots | head -1`: the reader closes the pipe after one line; the
+    program stops quietly (no BrokenPipeError traceback on stderr)."""
+    proc = subprocess.Popen(
+        [sys.executable, str(SIMULATOR), "--list-robots"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=ROOT,
+    )
+    proc.stdout.close()  # nobody reads: the first write meets a closed pipe
+    _, err = proc.communicate(timeout=120)
+    assert err == b""
+    assert proc.returncode == 1

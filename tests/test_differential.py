@@ -185,6 +185,17 @@ def test_planar_arm_manipulability_by_cauchy_binet():
     assert manipulability(arm, np.zeros(3)) < 1e-7  # stretched out: singular
 
 
+def test_manipulability_with_an_unlimited_prismatic_joint():
+    """A Cartesian (PPP) gantry with unlimited strokes: J_v is the identity whatever q, so
+    the measure is exactly 1 (the structural-row probe must not need the joint limits)."""
+    gantry = RobotParams.from_arrays(
+        "gantry", [0.0, 0.0, 0.0], [-np.pi / 2, -np.pi / 2, 0.0], [0.0, 0.0, 0.0],
+        [-np.pi / 2, -np.pi / 2, 0.0], [1, 1, 1],
+    )
+    for q in ([0.0, 0.0, 0.0], [3.0, -250.0, 7.5]):
+        assert manipulability(gantry, np.array(q)) == pytest.approx(1.0, rel=1e-12)
+
+
 @pytest.mark.parametrize("conv", CONVENTIONS)
 def test_manipulability_closed_forms_of_the_3dof_arms(conv):
     """det J_P of the anthropomorphic arm is −a2 a3 s3 (a2 c2 + a3 c23), of the spherical
