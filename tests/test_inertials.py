@@ -16,7 +16,7 @@ from robot_state import RobotState
 
 # robots whose files carry published inertial data (the library's are checked in
 # test_robot_library.py); every other file ships estimate_inertials' output
-PUBLISHED = {"puma560", "stanford", "ur5", "panda", "ur3", "ur3e", "ur5e", "ur10", "ur10e"}
+PUBLISHED = {"puma560", "stanford", "ur5", "panda", "gen3", "ur3", "ur3e", "ur5e", "ur10", "ur10e"}
 JOINT = """
 [[joints]]
 type = "revolute"

@@ -23,6 +23,7 @@ LIBRARY = {
     "panda": (7, "modified"),
     "iiwa14": (7, "standard"),
     "lwr4": (7, "standard"),
+    "gen3": (7, "standard"),
     "ur3": (6, "standard"),
     "ur3e": (6, "standard"),
     "ur5e": (6, "standard"),
@@ -41,6 +42,7 @@ LIBRARY = {
 # the moving links only; the fixed base (link 0) is the rest of the weight.
 DATASHEET_MASS = {
     "panda": 18.0,  # Franka Emika: "approx. 18 kg"
+    "gen3": 8.2,  # Kinova Gen3 7 DOF
     "ur3": 11.0,
     "ur3e": 11.2,
     "ur5e": 20.6,
@@ -72,6 +74,13 @@ HAND_POSES = {
     # S-R-S arms at zero stand straight up: base + upper arm + forearm + flange
     "iiwa14": (np.zeros(7), np.array([0.0, 0.0, 0.36 + 0.42 + 0.4 + 0.126]), R_UP),
     "lwr4": (np.zeros(7), np.array([0.0, 0.0, 0.3105 + 0.4 + 0.39 + 0.078]), R_UP),
+    # Kinova: the two small offsets d2, d4 are lateral (-y), the rest vertical
+    "gen3": (
+        np.zeros(7),
+        np.array([0.0, -(0.0054 + 0.0064) - (0.0064 + 0.0064),
+                  (0.1564 + 0.1284) + (0.2104 + 0.2104) + (0.2084 + 0.1059) + (0.1059 + 0.0615)]),
+        R_UP,
+    ),
     "ur3": _ur(0.1519, -0.24365, -0.21325, 0.11235, 0.08535, 0.0819),
     "ur3e": _ur(0.15185, -0.24355, -0.2132, 0.13105, 0.08535, 0.0921),
     "ur5e": _ur(0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996),
@@ -161,6 +170,7 @@ def test_industrial_reach_to_the_wrist_centre_matches_the_data_sheet(name):
     "name, reach, shoulder, tip",
     [
         ("iiwa14", 0.820, 1, 5),  # KUKA: 820 mm, axis A2 to the wrist point (A6)
+        ("gen3", 0.902, 1, 8),  # Kinova: 902 mm, joint 2 axis to the flange
     ],
 )
 def test_seven_dof_reach_matches_the_data_sheet(name, reach, shoulder, tip):
