@@ -156,7 +156,7 @@ def robot_look(robot: RobotParams) -> RobotLook:
 
     centres, endeff = seg.joint, home[-1, :3, 3]
     gaps = np.linalg.norm(centres[:, None] - centres[None], axis=-1)
-    gaps[gaps <= gd.MIN_LINK_LENGTH] = np.inf  # joints at one point (a wrist) cross each other
+    gaps[gaps <= max(gd.MIN_LINK_LENGTH, gd.JOINT_CROSSING_FRAC * reach)] = np.inf  # joints (nearly) at one point cross
     shrink = np.minimum(1.0, gd.JOINT_CLEARANCE * gaps.min(axis=1) / radius)
     radius, half, bound = radius * shrink, half * shrink, bound * shrink
 

@@ -28,6 +28,8 @@ JOINT_RADIUS_MIN_FRAC = 0.012    # ... at least this fraction of the reach ...
 JOINT_RADIUS_MAX_FRAC = 0.035    # ... at most this one
 JOINT_HALF_LENGTH_RATIO = 1.4    # revolute cylinder half length along its axis / its radius
 JOINT_CLEARANCE = 0.5            # a joint's radius <= this * the distance to the nearest other joint
+JOINT_CROSSING_FRAC = 0.015      # joints closer than this fraction of the reach share a housing:
+                                 # drawn crossing (as at a wrist centre), not shrunk apart
 PART_MIN_FRAC = 0.003            # no part radius below this fraction of the reach
 LINK_RADIUS_RATIO = 0.5          # link cylinder radius / the smaller joint radius at its ends
 ENDEFF_RADIUS_RATIO = 1.2        # endeffector sphere radius / the last joint's radius
