@@ -402,8 +402,9 @@ def session_from_config(config: Config) -> ViewerSession:
     return session
 
 
-def write_recording(config: Config) -> list[Path]:
-    """``--record``: the session rendered offscreen to a numbered PNG sequence (no Qt)."""
+def write_recording(config: Config) -> tuple[list[Path], Path | None]:
+    """``--record``: the session rendered offscreen to a numbered PNG sequence, and an MP4
+    when the optional ``video`` extra is installed (no Qt); returns both paths."""
     session = session_from_config(config)
     if config.demo == "circle":
         session.toggle_demo()

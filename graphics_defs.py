@@ -372,6 +372,8 @@ PLOT_DOCK_HEIGHT_FRACTION = 0.35           # of the window's height when the plo
 
 # --record: offscreen frames written to DIR
 RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
+RECORD_VIDEO_NAME = "recording.mp4"     # beside the frames, when the optional `video` extra is installed
+RECORD_VIDEO_QUALITY = 8                # imageio-ffmpeg quality, 0 (worst) .. 10 (best)
 RECORD_DEFAULT_FPS = 25.0
 RECORD_DEFAULT_DURATION_S = 5.0           # without the pick demo (whose length is the default)
 RECORD_MAX_FPS = 1000.0

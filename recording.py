@@ -1,12 +1,50 @@
 """``--record DIR --duration T --fps F``: render a session offscreen (OSMesa) to a numbered
-PNG sequence, one frame every 1/F s of simulated time.  No Qt."""
+PNG sequence, one frame every 1/F s of simulated time, and to an H.264 MP4 beside it when
+the optional ``video`` extra (imageio-ffmpeg, which carries its own ffmpeg) is installed.
+No Qt."""
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 import graphics_defs as gd
 import graphics_objects as go
+
+try:
+    import imageio_ffmpeg
+except ImportError:  # the optional extra: pip install 'robot-sim[video]'
+    imageio_ffmpeg = None
+
+
+class _Mp4:
+    """An MP4 written frame by frame to a temporary name in its directory and renamed
+    when complete, so a failed recording leaves no partial video."""
+
+    def __init__(self, path: Path, size: tuple[int, int], fps: float) -> None:
+        self.path = path
+        self.tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.mp4")
+        # macro_block_size 2: H.264's yuv420p needs even sizes (odd ones are rounded up)
+        self.writer: Any = imageio_ffmpeg.write_frames(
+            str(self.tmp), size, fps=fps, quality=gd.RECORD_VIDEO_QUALITY, macro_block_size=2,
+        )
+        self.writer.send(None)
+
+    def add(self, image: NDArray[np.uint8]) -> None:
+        self.writer.send(np.ascontiguousarray(image[..., :3]))
+
+    def finish(self) -> Path:
+        self.writer.close()
+        os.replace(self.tmp, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        self.writer.close()
+        self.tmp.unlink(missing_ok=True)
 
 
 def frame_times(duration: float, fps: float) -> list[float]:
@@ -19,9 +57,13 @@ def frame_times(duration: float, fps: float) -> list[float]:
     return [k / fps for k in range(round(duration * fps) + 1)]
 
 
-def record(session, out_dir: Path, duration: float, fps: float, size: tuple[int, int]) -> list[Path]:
+def record(
+    session, out_dir: Path, duration: float, fps: float, size: tuple[int, int]
+) -> tuple[list[Path], Path | None]:
     """Render ``session`` (a viewer_state.ViewerSession) at each of :func:`frame_times` into
-    ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically); returns the paths.
+    ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
+    imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
+    paths and the video's (None without the extra).
 
     A pick demo is shown at its start time plus each frame time (scrubbed, exact); anything
     else (the circle demo, an animation) is advanced by 1/fps between frames.
@@ -30,14 +72,22 @@ def record(session, out_dir: Path, duration: float, fps: float, size: tuple[int,
     start = session.pick.time if session.pick is not None else 0.0
     paths = []
     go.require_osmesa_platform()
-    with go.OffscreenRenderer(*size) as renderer:
-        for index, t in enumerate(times):
-            if session.pick is not None:
-                session.show_pick_at(start + t)
-            elif index:
-                session.step(1.0 / fps)
-            image = renderer.render(session.camera, session.scene(), session.options)
-            path = out_dir / gd.RECORD_FRAME_FORMAT.format(index=index)
-            go.save_png(path, image)
-            paths.append(path)
-    return paths
+    video = _Mp4(out_dir / gd.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
+    try:
+        with go.OffscreenRenderer(*size) as renderer:
+            for index, t in enumerate(times):
+                if session.pick is not None:
+                    session.show_pick_at(start + t)
+                elif index:
+                    session.step(1.0 / fps)
+                image = renderer.render(session.camera, session.scene(), session.options)
+                path = out_dir / gd.RECORD_FRAME_FORMAT.format(index=index)
+                go.save_png(path, image)
+                paths.append(path)
+                if video is not None:
+                    video.add(image)
+    except BaseException:
+        if video is not None:
+            video.abort()
+        raise
+    return paths, (video.finish() if video is not None else None)

@@ -59,8 +59,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if config.pick_report is not None:
             print(config.pick_report)
         if config.record is not None:
-            frames = write_recording(config)
-            print(f"wrote {len(frames)} frames to {config.record}")
+            frames, video = write_recording(config)
+            print(f"wrote {len(frames)} frames to {config.record}" + (f" and {video}" if video else ""))
             return 0
         if config.screenshot is not None:
             write_screenshot(config)

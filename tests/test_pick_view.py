@@ -2,11 +2,13 @@
 them (OSMesa), the final scene past the end, the recorded PNG sequence, one-line errors."""
 from __future__ import annotations
 
+import imageio_ffmpeg
 import numpy as np
 import pytest
 
 import graphics_defs as gd
 import graphics_objects as go
+import recording
 from _gfx_task import gripper_placements
 from kin_helpers import robot
 from pick_task import default_plan
@@ -87,8 +89,17 @@ def test_cli_record_writes_the_expected_frames(tmp_path):
                  "--size", "320x240")
     assert result.returncode == 0, result.stderr
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["frame_00000.png", "frame_00001.png", "frame_00002.png"]
-    frames = [read_png(out / n) for n in names]
+    assert names == ["frame_00000.png", "frame_00001.png", "frame_00002.png", "recording.mp4"]
+    assert result.stdout.strip() == f"wrote 3 frames to {out} and {out / 'recording.mp4'}"
+    frames = [read_png(out / n) for n in names[:3]]
+    # the video (the `video` extra is in the test extra) holds the same three pictures
+    reader = imageio_ffmpeg.read_frames(str(out / "recording.mp4"))
+    meta = next(reader)
+    assert meta["size"] == (320, 240) and meta["fps"] == 4
+    video = [np.frombuffer(f, np.uint8).reshape(240, 320, 3) for f in reader]
+    assert len(video) == 3
+    for picture, decoded in zip(frames, video):  # lossy: close on average, not bit-exact
+        assert np.mean(np.abs(decoded.astype(float) - picture[..., :3])) < 4.0
     assert all(f.shape[:2] == (240, 320) for f in frames)
     # the arm moves toward the pre-grasp pose: every frame differs from the one before
     assert all(np.count_nonzero(np.any(a != b, axis=2)) > 20 for a, b in zip(frames, frames[1:]))
@@ -122,3 +133,34 @@ def test_cli_unreachable_task_is_one_line_before_anything_moves(tmp_path):
     result = run("--robot", "ur5", "--demo", "pick", "--task", str(task), "--screenshot", str(out))
     assert_one_line_error(result, f"task {task}: UR5: pre-grasp: tool at xyz [3.000, 0.000, 0.340] m", "is out of reach")
     assert not out.exists()
+
+
+def _pick_session() -> ViewerSession:
+    session = ViewerSession(robot("ur5"), aspect=160 / 120)
+    session.start_pick(default_plan(robot("ur5")), 0.0)
+    return session
+
+
+def test_record_without_the_video_extra_writes_frames_only(tmp_path, monkeypatch):
+    monkeypatch.setattr(recording, "imageio_ffmpeg", None)
+    frames, video = recording.record(_pick_session(), tmp_path, 0.25, 4.0, (160, 120))
+    assert video is None
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frame_00000.png", "frame_00001.png"]
+    assert frames == [tmp_path / "frame_00000.png", tmp_path / "frame_00001.png"]
+
+
+def test_a_failed_recording_leaves_no_video(tmp_path, monkeypatch):
+    """A frame that cannot be written stops the recording: the partial MP4 is removed (the
+    frames already written stay, each complete)."""
+    written = []
+
+    def save_png(path, image):
+        if written:
+            raise OSError(28, "No space left on device")
+        written.append(path)
+        path.write_bytes(b"png")
+
+    monkeypatch.setattr(go, "save_png", save_png)
+    with pytest.raises(OSError):
+        recording.record(_pick_session(), tmp_path, 0.5, 4.0, (160, 120))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frame_00000.png"]
