@@ -742,7 +742,9 @@ class MainWindow(QtWidgets.QMainWindow):
             self.message(f"seek failed: {exc}")
         self.sync_widgets()
 
+    @guarded
     def set_pick_speed(self, speed: float) -> None:
+        """Speed box of the timeline: playback at ``speed`` × real time."""
         if self.session.pick is not None:
             self.session.pick.speed = speed
 
