@@ -7,14 +7,16 @@ import numpy as np
 import pytest
 
 import dynamics
+import graphics_defs as gd
 from control import PD, ComputedTorque, Controller, Gains, PDGravity, control_gains
 from inertials import Drives
 from kin_helpers import ROBOT_NAMES, robot
 from kinematics import forward_kinematics, jacobian
-from robot_defs import JTYPE_REVOLUTE, RobotParams
+from robot_defs import JTYPE_REVOLUTE, RobotParams, load_robot
 from robot_state import RobotState
 from sim_helpers import PENDULUM_LENGTH, PENDULUM_MASS, frictionless, pendulum, quintic
 from simulation import LimitEvent, Simulation
+from viewer_state import ViewerSession
 
 
 def _energy(rob, q, qd) -> float:
@@ -297,3 +299,24 @@ def test_pendulum_helper_is_what_it_claims():
     hold = dynamics.gravity_torque(rob, [0.0])[0]
     assert hold == pytest.approx(PENDULUM_MASS * 9.81 * PENDULUM_LENGTH / 2, rel=1e-12)
     assert dynamics.gravity_torque(rob, [-math.pi / 2])[0] == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("name, bound_m", [("humanoid7", 0.005), ("ur5", 0.005), ("puma560", 0.015)])
+def test_computed_torque_tracks_the_circle_demo(name: str, bound_m: float) -> None:
+    """The viewer's circle demo (radius 0.1 m, period 4 s) sets the desired state by
+    differential IK; under computed torque the simulated endeffector stays within
+    ``bound_m`` of the circle's point over two periods, and the run never stops.  The
+    demo gives no desired acceleration, so the residual is the 2 Hz loop's lag (about
+    3 mm); PUMA 560's Coulomb friction (|G|·Tc ≈ 25 N·m at joint 1) switches sign where
+    a joint reverses, which costs a few more millimetres there."""
+    session = ViewerSession(load_robot(name))
+    session.set_motion("ct")
+    session.toggle_demo()
+    errors = []
+    for _ in range(round(2 * gd.DEMO_CIRCLE_PERIOD_S / 0.01)):
+        session.step(0.01)
+        point, _ = session.demo.point_and_velocity()
+        errors.append(np.linalg.norm(session.kin.endeff_tf.t() - point))
+    assert session.motion.sim.stopped is None
+    assert session.motion.sim.time == pytest.approx(2 * gd.DEMO_CIRCLE_PERIOD_S, abs=1e-9)
+    assert max(errors) < bound_m, f"{name}: {max(errors) * 1000:.2f} mm"
