@@ -398,7 +398,7 @@ def session_from_config(config: Config) -> ViewerSession:
     if config.pick_plan is not None:
         session.start_pick(config.pick_plan, config.time, config.pick_effort)
     session.options.annotate_joint = config.annotate
-    session.fit_camera()
+    session.fit_camera(on_annotation=config.annotate is not None)
     return session
 
 

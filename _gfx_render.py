@@ -134,6 +134,21 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
         _TEXT.draw()
 
 
+def annotation_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64] | None:
+    """World points (N, 3) of the DH annotation of ``options.annotate_joint`` (its lines,
+    its label anchors and the axis tips of the two frames it relates), or None when no
+    annotation is drawn.  For framing one joint's parameters (``fit``)."""
+    kin, joint = scene.kinematics, options.annotate_joint
+    if joint is None or not 1 <= joint <= kin.robot.n_dofs:
+        return None
+    look = robot_look(kin.robot)
+    annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, look.frame_length)
+    ends = kin.frames[joint - 1:joint + 1]
+    points = [line for line, _, _ in annotation.lines] + [anchor for anchor, _, _ in annotation.labels]
+    points += [ends[:, :3, 3]] + [ends[:, :3, 3] + look.frame_length * ends[:, :3, k] for k in range(3)]
+    return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])
+
+
 def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64]:
     """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
     and ``options``: the corners of the robot's parts at its current pose, the point
@@ -155,8 +170,7 @@ def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64
         points.append(np.asarray(scene.workspace.points, dtype=float))
     if scene.task is not None:
         points.append(task_points(scene.task))
-    joint = options.annotate_joint
-    if joint is not None and 1 <= joint <= kin.robot.n_dofs:
-        annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, look.frame_length)
-        points += [line for line, _, _ in annotation.lines] + [anchor for anchor, _, _ in annotation.labels]
+    annotation = annotation_points(scene, options)
+    if annotation is not None:
+        points.append(annotation)
     return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])

@@ -43,7 +43,7 @@ from _gfx_drawables import (
 )
 from _gfx_gl import GL_PRESETS, gl_state, require_osmesa_platform
 from _gfx_offscreen import OffscreenRenderer, save_png
-from _gfx_render import render_scene, visible_points
+from _gfx_render import annotation_points, render_scene, visible_points
 from _gfx_robot import DHSegments, Part, RobotLook, dh_segments, differing, robot_look, robot_parts, robot_reach
 from _gfx_resources import Drawable
 from _gfx_scene import RGBA, GraphicsOptions, Scene, Vector
@@ -85,4 +85,5 @@ __all__ = [
     "robot_reach",
     "save_png",
     "visible_points",
+    "annotation_points",
 ]

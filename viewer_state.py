@@ -136,12 +136,16 @@ class ViewerSession:
         self.kin.update(self.state.joint_state)
         self.ghost.update(self.state.joint_state_des)
 
-    def fit_camera(self) -> None:
+    def fit_camera(self, on_annotation: bool = False) -> None:
         """Reset the camera and frame everything drawn (``graphics_objects.visible_points``):
         the arm at its current pose, the floor under its base, the drawn frames, the IK
-        target and the workspace cloud when shown (world, m)."""
+        target and the workspace cloud when shown (world, m).  With ``on_annotation`` and
+        a joint annotated, frame that joint's DH annotation and its two frames only, so
+        its dimensions, arcs and labels are large enough to read."""
         self.camera.reset()
-        self.camera.fit(go.visible_points(self.scene(), self.options), self.aspect)
+        focus = go.annotation_points(self.scene(), self.options) if on_annotation else None
+        points = focus if focus is not None else go.visible_points(self.scene(), self.options)
+        self.camera.fit(points, self.aspect)
 
     # ---- motion mode (kinematic or simulated, see motion.py) ----
     @property

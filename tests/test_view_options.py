@@ -109,3 +109,33 @@ def test_trail_is_drawn_as_a_line_of_its_colour_through_its_points(renderer):
         window = with_trail[y - 1:y + 2, x - 1:x + 2, :3].astype(int)
         assert np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1)), f"no trail pixel near {(x, y)}"
         assert not np.any(np.all(np.abs(without[y - 1:y + 2, x - 1:x + 2, :3].astype(int) - trail_rgb) <= 3, axis=-1))
+
+
+def test_fit_on_annotation_frames_the_annotated_joint() -> None:
+    """`--annotate J` frames joint J's annotation (its dimensions, arcs, labels and its two
+    frames) rather than the whole arm: every annotation point is in the picture, and the
+    annotation spans at least 1.5 times as many pixels as when the whole arm is framed
+    (about 2× for PUMA 560's joint 3)."""
+    from viewer_state import ViewerSession
+
+    session = ViewerSession(load_robot("puma560"), aspect=800 / 600)
+    session.set_q(np.radians([0.0, 45.0, -135.0, 0.0, 45.0, 0.0]))
+    session.options.annotate_joint = 3
+    points = go.annotation_points(session.scene(), session.options)
+
+    def extent() -> tuple[float, np.ndarray]:
+        px = session.camera.project(points, 800, 600)
+        return float(np.ptp(px, axis=0).max()), px
+
+    session.fit_camera()
+    whole, _ = extent()
+    session.fit_camera(on_annotation=True)
+    close, px = extent()
+    assert np.all((px >= 0.0) & (px <= [800.0, 600.0]))
+    assert close >= 1.5 * whole
+    session.options.annotate_joint = None  # nothing annotated: the usual framing
+    assert go.annotation_points(session.scene(), session.options) is None
+    session.fit_camera(on_annotation=True)
+    focused = session.camera.distance
+    session.fit_camera()
+    assert focused == pytest.approx(session.camera.distance, rel=1e-12)
