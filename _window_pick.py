@@ -16,28 +16,33 @@ from trajectory import Trajectory
 
 
 class PlotDock(QtWidgets.QDockWidget):
-    """One plot per row of ``PLOT_ROWS`` (q, qd, qdd, and the joint effort of a simulated
-    run), one curve per joint, x = time [s], and a vertical cursor line at the current
-    time in each.  The effort row is shown only when there is an effort to plot."""
+    """One plot per row of ``PLOT_ROWS`` (q, qd, qdd, and the joint effort τ of a simulated
+    run) under a legend row of the joint colours, one curve per joint, x = time [s], and a
+    vertical cursor line at the current time in each.  The effort row is shown only when
+    there is an effort to plot."""
 
     def __init__(self, parent: QtWidgets.QWidget) -> None:
-        super().__init__("Joint plots", parent)
+        super().__init__(gd.PLOT_DOCK_TITLE, parent)
         self.setObjectName("plot_dock")
         self.graphics = pg.GraphicsLayoutWidget()
         self.graphics.setBackground(gd.PLOT_BACKGROUND)
         self.plots: dict[str, pg.PlotItem] = {}
         self.cursors: dict[str, pg.InfiniteLine] = {}
-        for row, (key, title, unit) in enumerate(gd.PLOT_ROWS):
+        # one legend row (joint colours) above the plots; no plot titles and one time axis
+        # (the lowest row's), so the rows keep their height for the curves in a short dock
+        self.legend = pg.LegendItem(colCount=gd.PLOT_LEGEND_COLUMNS, labelTextSize=gd.PLOT_LABEL_SIZE)
+        self.graphics.addItem(self.legend, row=0, col=0)
+        for row, (key, symbol) in enumerate(gd.PLOT_ROWS, start=1):
             plot = self.graphics.addPlot(row=row, col=0)
-            plot.setLabel("left", title, units=None)
-            plot.setTitle(f"{title} [{unit}]", size=gd.PLOT_TITLE_SIZE)
+            plot.setLabel("left", symbol, **{"font-size": gd.PLOT_LABEL_SIZE})
             plot.showGrid(x=True, y=True, alpha=gd.PLOT_GRID_ALPHA)
-            if row:
+            if row > 1:
                 plot.setXLink(self.plots[gd.PLOT_ROWS[0][0]])
             cursor = pg.InfiniteLine(angle=90, pen=pg.mkPen(gd.PLOT_CURSOR_COLOR))
             plot.addItem(cursor)
             self.plots[key], self.cursors[key] = plot, cursor
-        self.plots[gd.PLOT_ROWS[-1][0]].setLabel("bottom", "time", units="s")
+        for plot in self.plots.values():
+            plot.setLabel("bottom", "time", units="s")
         self.plots["effort"].setVisible(False)
         self.curves: dict[str, list[pg.PlotDataItem]] = {key: [] for key in self.plots}
         self.setWidget(self.graphics)
@@ -48,6 +53,9 @@ class PlotDock(QtWidgets.QDockWidget):
         colour per joint."""
         series = {"q": traj.q, "qd": traj.qd, "qdd": traj.qdd, "effort": effort}
         self.plots["effort"].setVisible(effort is not None)
+        last = "effort" if effort is not None else gd.PLOT_ROWS[-2][0]
+        for key, plot in self.plots.items():  # the time axis only under the lowest row shown
+            plot.showAxis("bottom", key == last)
         for key, plot in self.plots.items():
             for curve in self.curves[key]:
                 plot.removeItem(curve)
@@ -56,10 +64,12 @@ class PlotDock(QtWidgets.QDockWidget):
                 self.curves[key] = []
                 continue
             self.curves[key] = [
-                plot.plot(traj.t, data[:, j], pen=pg.mkPen(gd.PLOT_JOINT_COLORS[j % len(gd.PLOT_JOINT_COLORS)]),
-                          name=f"joint {j + 1}")
+                plot.plot(traj.t, data[:, j], pen=pg.mkPen(gd.PLOT_JOINT_COLORS[j % len(gd.PLOT_JOINT_COLORS)]))
                 for j in range(traj.n_dofs)
             ]
+        self.legend.clear()
+        for j, curve in enumerate(self.curves["q"]):
+            self.legend.addItem(curve, f"joint {j + 1}")
 
     def set_time(self, t: float) -> None:
         """Move the cursors to time ``t`` [s]."""

@@ -360,13 +360,16 @@ PICK_LABEL_MIN_WIDTH = 220
 PICK_DOCK_TITLE_PX = 24                    # room for the playback dock's title bar
 
 # Plot dock (pyqtgraph): one row per quantity, one curve per joint
-PLOT_ROWS = (("q", "position", "rad | m"), ("qd", "velocity", "rad/s | m/s"),
-             ("qdd", "acceleration", "rad/s² | m/s²"), ("effort", "effort", "N·m | N"))
+# row labels short enough for a short dock (combining dots do not render in Qt's fonts);
+# the units are in the dock's title
+PLOT_DOCK_TITLE = "Joint plots: q [rad | m], qd [rad/s | m/s], qdd [rad/s² | m/s²], τ [N·m | N]"
+PLOT_ROWS = (("q", "q"), ("qd", "qd"), ("qdd", "qdd"), ("effort", "τ"))
 PLOT_JOINT_COLORS = ("#e41a1c", "#377eb8", "#4daf4a", "#984ea3", "#ff7f00", "#a65628", "#f781bf")
 PLOT_BACKGROUND = "w"
 PLOT_CURSOR_COLOR = "k"
 PLOT_GRID_ALPHA = 0.3
-PLOT_TITLE_SIZE = "9pt"
+PLOT_LABEL_SIZE = "8pt"                    # axis labels and legend
+PLOT_LEGEND_COLUMNS = 7                    # joints side by side in the legend row
 PLOT_DOCK_MIN_HEIGHT = 240
 PLOT_DOCK_HEIGHT_FRACTION = 0.35           # of the window's height when the plots open
 

@@ -34,6 +34,11 @@ def test_plot_dock_shows_the_trajectory(pick_window):
         for j, curve in enumerate(curves):
             np.testing.assert_array_equal(curve.xData, traj.t)
             np.testing.assert_array_equal(curve.yData, getattr(traj, key)[:, j])
+    # the legend row names each joint next to its curve's pen
+    assert [label.text for _, label in dock.legend.items] == [f"joint {j + 1}" for j in range(traj.n_dofs)]
+    assert [sample.item is curve for (sample, _), curve in zip(dock.legend.items, dock.curves["q"])] == [True] * traj.n_dofs
+    # only the lowest plot shown carries the time axis
+    assert [dock.plots[k].getAxis("bottom").isVisible() for k in ("q", "qd", "qdd")] == [False, False, True]
     # the plot widget really painted the curves: pixels of each joint's colour
     image = dock.graphics.grab().toImage().convertToFormat(QImage.Format_RGB888)
     pixels = np.frombuffer(image.constBits().asstring(image.byteCount()), np.uint8)
