@@ -35,6 +35,12 @@ class Annotation:
     labels: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
 
 
+def _shown(value: float, digits: int) -> str:
+    """``value`` with ``digits`` decimals, never "-0.000": a length or angle read off the
+    frames as −1e−17 is shown as 0."""
+    return f"{round(value, digits) + 0.0:.{digits}f}"
+
+
 def signed_angle(u: NDArray, v: NDArray, axis: NDArray) -> float:
     """Angle (rad) turning unit ``u`` into unit ``v`` about unit ``axis`` (both ⊥ axis)."""
     return math.atan2(float(np.dot(np.cross(u, v), axis)), float(np.dot(u, v)))
@@ -103,20 +109,20 @@ def dh_annotation(frames: NDArray[np.float64], joint: int, modified: bool, scale
         bend = o0 + a * x0
         d = float(np.dot(o1 - bend, z1))
         alpha, theta = signed_angle(z0, z1, x0), signed_angle(x0, x1, z1)
-        _arc(out, o0, x0, z0, z1, radius, f"α{i} = {math.degrees(alpha):.1f}°", colors["alpha"])
-        _dimension(out, o0, bend, _perpendicular(x0, -z0), offset, tick, f"a{i} = {a:.3f} m", colors["a"])
-        _arc(out, bend, z1, x0, x1, radius, f"θ{joint} = {math.degrees(theta):.1f}°", colors["theta"])
-        _dimension(out, bend, o1, _perpendicular(z1, -x1, -x0), offset, tick, f"d{joint} = {d:.3f} m", colors["d"])
+        _arc(out, o0, x0, z0, z1, radius, f"α{i} = {_shown(math.degrees(alpha), 1)}°", colors["alpha"])
+        _dimension(out, o0, bend, _perpendicular(x0, -z0), offset, tick, f"a{i} = {_shown(a, 3)} m", colors["a"])
+        _arc(out, bend, z1, x0, x1, radius, f"θ{joint} = {_shown(math.degrees(theta), 1)}°", colors["theta"])
+        _dimension(out, bend, o1, _perpendicular(z1, -x1, -x0), offset, tick, f"d{joint} = {_shown(d, 3)} m", colors["d"])
         return out
     d = float(np.dot(o1 - o0, z0))
     bend = o0 + d * z0
     a = float(np.dot(o1 - bend, x1))
     theta, alpha = signed_angle(x0, x1, z0), signed_angle(z0, z1, x1)
-    _dimension(out, o0, bend, _perpendicular(z0, -x1, -x0), offset, tick, f"d{joint} = {d:.3f} m", colors["d"])
-    _arc(out, bend, z0, x0, x1, radius, f"θ{joint} = {math.degrees(theta):.1f}°", colors["theta"])
+    _dimension(out, o0, bend, _perpendicular(z0, -x1, -x0), offset, tick, f"d{joint} = {_shown(d, 3)} m", colors["d"])
+    _arc(out, bend, z0, x0, x1, radius, f"θ{joint} = {_shown(math.degrees(theta), 1)}°", colors["theta"])
     _dimension(out, bend, o1, _perpendicular(x1, (1.0 if d >= 0 else -1.0) * z0, z1), offset, tick,
-               f"a{joint} = {a:.3f} m", colors["a"])
-    _arc(out, o1, x1, z0, z1, radius, f"α{joint} = {math.degrees(alpha):.1f}°", colors["alpha"])
+               f"a{joint} = {_shown(a, 3)} m", colors["a"])
+    _arc(out, o1, x1, z0, z1, radius, f"α{joint} = {_shown(math.degrees(alpha), 1)}°", colors["alpha"])
     return out
 
 

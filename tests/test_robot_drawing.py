@@ -433,3 +433,18 @@ def test_pictures_are_opaque_where_translucent_parts_blend(render: Frames) -> No
     camera = framed(np.vstack([key_points(kin), key_points(ghost)]))
     image = render(camera, go.Scene(kin, ghost=ghost), options)
     assert image[..., 3].min() == 255
+
+
+@pytest.mark.parametrize("name", ["puma560", "panda", "stanford", "ur5"])
+def test_annotation_labels_never_show_a_negative_zero(name: str) -> None:
+    """A length or angle read off the frames as −1e−17 is labelled 0, not "-0.000"
+    (PUMA 560's d2 showed "d2 = -0.000 m" in the window)."""
+    robot = load_robot(name)
+    rng = np.random.default_rng(5)
+    lo, hi = np.maximum(robot.q_min, -np.pi), np.minimum(robot.q_max, np.pi)
+    for q in [robot.q_home, *(lo + (hi - lo) * rng.random((20, robot.n_dofs)))]:
+        frames = forward_kinematics(robot, q, all_frames=True)[:-1]
+        for j in range(1, robot.n_dofs + 1):
+            for _, text, _ in go.dh_annotation(frames, j, robot.is_modified, 0.1).labels:
+                value = text.split(" = ")[1]
+                assert not (value.startswith("-") and float(value.split()[0].rstrip("°")) == 0.0), text
