@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,9 @@ from numpy.typing import NDArray
 
 import graphics_defs as gd
 import graphics_objects as go
+
+#: A frame's file name (``RECORD_FRAME_FORMAT``) with its index as group 1.
+_FRAME_NAME = re.compile(re.escape(gd.RECORD_FRAME_FORMAT.split("{")[0]) + r"(\d+)" + re.escape(gd.RECORD_FRAME_FORMAT.split("}")[1]))
 
 try:
     import imageio_ffmpeg
@@ -63,7 +67,8 @@ def record(
     """Render ``session`` (a viewer_state.ViewerSession) at each of :func:`frame_times` into
     ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
     imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
-    paths and the video's (None without the extra).
+    paths and the video's (None without the extra).  Higher-numbered frames an earlier,
+    longer recording left in ``out_dir`` are removed once this one is complete.
 
     A pick demo is shown at its start time plus each frame time (scrubbed, exact); anything
     else (the circle demo, an animation) is advanced by 1/fps between frames.
@@ -90,4 +95,16 @@ def record(
         if video is not None:
             video.abort()
         raise
+    _remove_stale_frames(out_dir, len(paths))
     return paths, (video.finish() if video is not None else None)
+
+
+def _remove_stale_frames(out_dir: Path, count: int) -> None:
+    """Delete the frames numbered ``count`` and up that an earlier, longer recording left
+    in ``out_dir`` (only files named exactly like ``RECORD_FRAME_FORMAT``), so the
+    directory's sequence is this recording."""
+    for path in out_dir.iterdir():
+        match = _FRAME_NAME.fullmatch(path.name)
+        if match and int(match.group(1)) >= count and path.is_file():
+            path.unlink()
+

@@ -164,3 +164,16 @@ def test_a_failed_recording_leaves_no_video(tmp_path, monkeypatch):
     with pytest.raises(OSError):
         recording.record(_pick_session(), tmp_path, 0.5, 4.0, (160, 120))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["frame_00000.png"]
+
+
+def test_recording_again_into_a_directory_leaves_only_its_own_frames(tmp_path, monkeypatch):
+    """A shorter recording into the directory of a longer one: the old higher-numbered
+    frames go (the PNG sequence is this recording), other files stay untouched."""
+    monkeypatch.setattr(recording, "imageio_ffmpeg", None)
+    for name in ("frame_00005.png", "frame_00002.png", "notes.txt", "frame_00007.png.bak"):
+        (tmp_path / name).write_bytes(b"old")
+    frames, _ = recording.record(_pick_session(), tmp_path, 0.25, 4.0, (160, 120))
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "frame_00000.png", "frame_00001.png", "frame_00007.png.bak", "notes.txt"]
+    assert (tmp_path / "notes.txt").read_bytes() == b"old"
+    assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in frames)
