@@ -152,14 +152,18 @@ def annotation_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.floa
 def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64]:
     """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
     and ``options``: the corners of the robot's parts at its current pose, the point
-    of the floor under its base, the tips of the drawn frames' axes, the IK target with
-    its axes, the vectors, the workspace cloud, the pick task's table and path and the
-    DH annotation when shown.  For framing (``fit``)."""
+    of the floor under its base, the tips of the drawn frames' axes, the ghost (desired
+    state) when drawn, the IK target with its axes, the vectors, the workspace cloud, the
+    pick task's table and path and the DH annotation when shown.  For framing (``fit``)."""
     kin = scene.kinematics
     look = robot_look(kin.robot)
-    parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if options.show_com else None)
+    com = kin.link_com if options.show_com else None
+    parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, com)
     frames = frame_poses(kin, options.show_frames, options.show_endeff_frame)
     points = [part_corners(parts), kin.frames[0, :3, 3] * (1.0, 1.0, 0.0), frames[:, :3, 3]]
+    if options.show_ghost and scene.ghost is not None:
+        ghost = scene.ghost
+        points.append(part_corners(robot_parts(ghost.robot, ghost.frames, ghost.endeff_tf.mat, None)))
     points += [frames[:, :3, 3] + look.frame_length * frames[:, :3, k] for k in range(3)]
     if options.show_target and scene.target_tf is not None:
         target, length = scene.target_tf.mat, look.reach * gd.TARGET_FRAME_LENGTH_FRAC

@@ -44,7 +44,7 @@ from _gfx_drawables import (
 from _gfx_gl import GL_PRESETS, gl_state, require_osmesa_platform
 from _gfx_offscreen import OffscreenRenderer, save_png
 from _gfx_render import annotation_points, render_scene, visible_points
-from _gfx_robot import DHSegments, Part, RobotLook, dh_segments, differing, robot_look, robot_parts, robot_reach
+from _gfx_robot import DHSegments, Part, RobotLook, dh_segments, differing, part_corners, robot_look, robot_parts, robot_reach
 from _gfx_resources import Drawable
 from _gfx_scene import RGBA, GraphicsOptions, Scene, Vector
 from _gfx_text import TextGraphics, text_size
@@ -73,6 +73,7 @@ __all__ = [
     "differing",
     "robot_look",
     "robot_parts",
+    "part_corners",
     "Scene",
     "TargetGraphics",
     "Vector",

@@ -139,3 +139,22 @@ def test_fit_on_annotation_frames_the_annotated_joint() -> None:
     focused = session.camera.distance
     session.fit_camera()
     assert focused == pytest.approx(session.camera.distance, rel=1e-12)
+
+
+def test_framing_includes_the_ghost_when_it_is_drawn() -> None:
+    """PUMA 560 falls for 1.5 s (passive) while its desired state stays at home: the ghost
+    is drawn apart from the arm, and fit_camera keeps every corner of its parts in view
+    (it used to frame the arm alone and cut the ghost off at the top)."""
+    from viewer_state import ViewerSession
+
+    session = ViewerSession(load_robot("puma560"), aspect=1024 / 768)
+    session.set_motion("passive")
+    session.motion.simulate(1.5)
+    session.update_kinematics()
+    scene = session.scene()
+    assert scene.ghost is not None and session.options.show_ghost
+    session.fit_camera()
+    ghost = scene.ghost
+    corners = go.part_corners(go.robot_parts(ghost.robot, ghost.frames, ghost.endeff_tf.mat, None))
+    px = session.camera.project(corners, 1024, 768)
+    assert np.all((px >= 0.0) & (px <= [1024.0, 768.0]))
