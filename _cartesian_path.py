@@ -69,7 +69,7 @@ def _rotations(axis: FloatArray, angles: FloatArray) -> FloatArray:
 def qd_limits(robot: RobotParams) -> FloatArray:
     """Joint speed limits (n,): the robot's drive limits where known, else the defaults."""
     default = np.where(robot.is_revolute, DEFAULT_QD_MAX_REVOLUTE, DEFAULT_QD_MAX_PRISMATIC)
-    drives = getattr(robot, "drives", None)
+    drives = robot.drives
     limit = np.asarray(drives.velocity_limit, dtype=float) if drives is not None else default
     return np.where(np.isfinite(limit), limit, default)
 

@@ -80,7 +80,7 @@ def _inertial(link: ET.Element, mass: float, com: np.ndarray, inertia: np.ndarra
 
 def _limit_values(robot: RobotParams, i: int) -> tuple[float, float]:
     """Effort and velocity limits of joint i from ``robot.drives`` (0 when unknown)."""
-    drives = getattr(robot, "drives", None)
+    drives = robot.drives
     if drives is None:
         return 0.0, 0.0
     effort, velocity = float(drives.effort_limit[i]), float(drives.velocity_limit[i])

@@ -120,7 +120,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         self._filling = False
         self.table.resizeColumnsToContents()
         self.error_label.clear()
-        self.convention_label.setText(_CONVENTION_TEXT[getattr(robot, "convention", "standard")])
+        self.convention_label.setText(_CONVENTION_TEXT[robot.convention])
         if selected is not None and selected < robot.n_dofs:
             self.table.selectRow(selected)
 

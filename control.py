@@ -102,7 +102,7 @@ def control_gains(
     inertial data (``dynamics`` raises naming the first link without it).  Raises
     ValueError naming the argument for a non-positive bandwidth/damping or bad gains.
     """
-    table = getattr(robot, "control", None) or {}
+    table = robot.control or {}
     f = _positive("bandwidth", bandwidth if bandwidth is not None else table.get("bandwidth", DEFAULT_BANDWIDTH_HZ))
     zeta = _positive("damping", damping if damping is not None else table.get("damping", DEFAULT_DAMPING))
     omega = 2.0 * math.pi * f

@@ -94,8 +94,8 @@ def to_standard(robot: RobotParams) -> RobotParams:
     return dataclasses.replace(
         robot,
         inertials=_moved_inertials(robot.inertials, a, alpha, inverse=True),
-        dh_a=_frozen(np.concatenate([robot.dh_a[1:], [0.0]])),
-        dh_alpha=_frozen(np.concatenate([robot.dh_alpha[1:], [0.0]])),
+        dh_a=_frozen(a),
+        dh_alpha=_frozen(alpha),
         base_tf=robot.base_tf @ _x_motion(robot.dh_a[0], robot.dh_alpha[0]),
         convention=CONVENTION_STANDARD,
     )

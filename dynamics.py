@@ -199,7 +199,7 @@ class _DynModel:
         li = robot.inertials
         n = robot.n_dofs
         self.n = n
-        self.modified = getattr(robot, "convention", "standard") == "modified"
+        self.modified = robot.is_modified
         self.revolute = [bool(t == JTYPE_REVOLUTE) for t in robot.jtype]
         self.rev_index = np.flatnonzero(np.asarray(self.revolute))
         self.th = robot.dh_th.copy()

@@ -289,7 +289,7 @@ def _combine(parts: list[tuple[float, FloatArray, FloatArray]]) -> tuple[float, 
 def _segment_length_d(robot: "RobotParams", i: int) -> float:
     """d of joint i for the estimate: a prismatic joint's d at its largest finite limit
     (the sliding member is at least that long), else at home."""
-    if robot.jtype[i] == 0:
+    if robot.is_revolute[i]:
         return float(robot.dh_d[i])
     q = robot.q_max[i] if np.isfinite(robot.q_max[i]) else robot.q_home[i]
     return float(robot.dh_d[i] + q)
@@ -316,7 +316,7 @@ def estimate_inertials(robot: "RobotParams", density: float = DEFAULT_DENSITY) -
     if not (math.isfinite(density) and density > 0.0):
         raise ValueError(f"density must be a positive finite number (kg/m^3), got {density!r}")
     n = robot.n_dofs
-    modified = getattr(robot, "convention", "standard") == "modified"
+    modified = robot.is_modified
     size = float(
         np.sum(np.abs(robot.dh_a))
         + sum(abs(_segment_length_d(robot, i)) for i in range(n))

@@ -47,7 +47,7 @@ class Motion:
     """
 
     def __init__(self, robot: RobotParams, state: RobotState, gain_overrides: dict[str, Any] | None = None) -> None:
-        self.estimated = getattr(robot, "inertials", None) is None
+        self.estimated = robot.inertials is None
         self.robot = estimate_inertials(robot) if self.estimated else robot
         self.state = state
         self.gains: Gains = control_gains(self.robot, **(gain_overrides or {}))

@@ -18,6 +18,11 @@ from robot_defs import JTYPE_REVOLUTE, RobotParams
 FloatArray = NDArray[np.float64]
 
 
+#: JointState fields of a joint-space rate: (revolute part, prismatic part).
+_VELOCITY = ("thd", "dd")
+_ACCELERATION = ("thdd", "ddd")
+
+
 def check_joint_vector(values: ArrayLike, n: int, what: str = "q") -> FloatArray:
     """``values`` as a float array of shape (n,) or (N, n); ValueError naming ``what`` if the
     last dimension is not n, the array is not 1- or 2-D, or an entry is NaN or infinite."""
@@ -130,15 +135,19 @@ class RobotState:
         state.th[:] = np.where(self._revolute, self.robot.dh_th + q, self.robot.dh_th)
         state.d[:] = np.where(self._revolute, self.robot.dh_d, self.robot.dh_d + q)
 
-    def _qd_of(self, state: JointState) -> FloatArray:
-        return np.where(self._revolute, state.thd, state.dd)
+    def _rate_of(self, state: JointState, fields: tuple[str, str]) -> FloatArray:
+        """The joint-space rate whose revolute and prismatic parts are ``fields`` of ``state``
+        (``_VELOCITY`` or ``_ACCELERATION``)."""
+        th, d = fields
+        return np.where(self._revolute, getattr(state, th), getattr(state, d))
 
-    def _set_qd_of(self, state: JointState, values: ArrayLike, what: str) -> None:
-        qd = check_joint_vector(values, self.robot.n_dofs, what)
-        if qd.ndim != 1:
-            raise ValueError(f"{what} must be one vector of shape ({self.robot.n_dofs},), got {qd.shape}")
-        state.thd[:] = np.where(self._revolute, qd, 0.0)
-        state.dd[:] = np.where(self._revolute, 0.0, qd)
+    def _set_rate_of(self, state: JointState, values: ArrayLike, what: str, fields: tuple[str, str]) -> None:
+        rate = check_joint_vector(values, self.robot.n_dofs, what)
+        if rate.ndim != 1:
+            raise ValueError(f"{what} must be one vector of shape ({self.robot.n_dofs},), got {rate.shape}")
+        th, d = fields
+        getattr(state, th)[:] = np.where(self._revolute, rate, 0.0)
+        getattr(state, d)[:] = np.where(self._revolute, 0.0, rate)
 
     def q(self) -> FloatArray:
         """Current joint vector (n,): radians (revolute) and metres (prismatic)."""
@@ -156,44 +165,34 @@ class RobotState:
         """Set the desired joint vector (validated like :meth:`set_q`)."""
         self._set_q_of(self.joint_state_des, values, "q_des")
 
-    def _qdd_of(self, state: JointState) -> FloatArray:
-        return np.where(self._revolute, state.thdd, state.ddd)
-
-    def _set_qdd_of(self, state: JointState, values: ArrayLike, what: str) -> None:
-        qdd = check_joint_vector(values, self.robot.n_dofs, what)
-        if qdd.ndim != 1:
-            raise ValueError(f"{what} must be one vector of shape ({self.robot.n_dofs},), got {qdd.shape}")
-        state.thdd[:] = np.where(self._revolute, qdd, 0.0)
-        state.ddd[:] = np.where(self._revolute, 0.0, qdd)
-
     def qd(self) -> FloatArray:
         """Current joint velocities (n,): rad/s (revolute) and m/s (prismatic)."""
-        return self._qd_of(self.joint_state)
+        return self._rate_of(self.joint_state, _VELOCITY)
 
     def set_qd(self, values: ArrayLike) -> None:
         """Set the current joint velocities (validated like :meth:`set_q`)."""
-        self._set_qd_of(self.joint_state, values, "qd")
+        self._set_rate_of(self.joint_state, values, "qd", _VELOCITY)
 
     def qdd(self) -> FloatArray:
         """Current joint accelerations (n,): rad/s² (revolute) and m/s² (prismatic)."""
-        return self._qdd_of(self.joint_state)
+        return self._rate_of(self.joint_state, _ACCELERATION)
 
     def set_qdd(self, values: ArrayLike) -> None:
         """Set the current joint accelerations (validated like :meth:`set_q`)."""
-        self._set_qdd_of(self.joint_state, values, "qdd")
+        self._set_rate_of(self.joint_state, values, "qdd", _ACCELERATION)
 
     def qd_des(self) -> FloatArray:
         """Desired joint velocities (n,)."""
-        return self._qd_of(self.joint_state_des)
+        return self._rate_of(self.joint_state_des, _VELOCITY)
 
     def set_qd_des(self, values: ArrayLike) -> None:
         """Set the desired joint velocities (validated like :meth:`set_q`)."""
-        self._set_qd_of(self.joint_state_des, values, "qd_des")
+        self._set_rate_of(self.joint_state_des, values, "qd_des", _VELOCITY)
 
     def qdd_des(self) -> FloatArray:
         """Desired joint accelerations (n,) (the feed-forward of computed-torque control)."""
-        return self._qdd_of(self.joint_state_des)
+        return self._rate_of(self.joint_state_des, _ACCELERATION)
 
     def set_qdd_des(self, values: ArrayLike) -> None:
         """Set the desired joint accelerations (validated like :meth:`set_q`)."""
-        self._set_qdd_of(self.joint_state_des, values, "qdd_des")
+        self._set_rate_of(self.joint_state_des, values, "qdd_des", _ACCELERATION)

@@ -42,7 +42,7 @@ import dynamics
 from control import Controller, Passive
 from kinematics import Kinematics
 from robot_defs import RobotParams
-from robot_state import JointState, RobotState
+from robot_state import RobotState
 
 FloatArray = NDArray[np.float64]
 #: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,), at simulated time t [s].
@@ -114,7 +114,7 @@ class Simulation:
         self.integrator = integrator
         self.reference = reference
         n = robot.n_dofs
-        drives = getattr(robot, "drives", None)
+        drives = robot.drives
         self.effort_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.effort_limit, dtype=float)
         self.velocity_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.velocity_limit, dtype=float)
         self._limit_effort = bool(np.isfinite(self.effort_limit).any())
@@ -143,7 +143,7 @@ class Simulation:
         self._pending = 0.0
         self._rtf_wall = self._rtf_sim = self._rtf_cpu = 0.0
         self._pull: tuple[FloatArray, float, float] | None = None
-        self._pull_kin: tuple[Kinematics, JointState] | None = None
+        self._pull_kin: tuple[Kinematics, RobotState] | None = None
         self.pull_force = np.zeros(3)
         self.load_state()
 
@@ -324,12 +324,10 @@ class Simulation:
             return None
         point, stiffness, damping = self._pull
         if self._pull_kin is None:
-            self._pull_kin = (Kinematics(self.robot), JointState(self.robot.jtype))
-        kin, joints = self._pull_kin
-        revolute = self.robot.is_revolute
-        joints.th[:] = np.where(revolute, self.robot.dh_th + q, self.robot.dh_th)
-        joints.d[:] = np.where(revolute, self.robot.dh_d, self.robot.dh_d + q)
-        kin.update(joints)
+            self._pull_kin = (Kinematics(self.robot), RobotState(self.robot))
+        kin, at_q = self._pull_kin
+        at_q.set_q(q)
+        kin.update(at_q.joint_state)
         force = stiffness * (point - kin.endeff_tf.t()) - damping * (kin.jacobian[:3] @ qd)
         self.pull_force = force
         return np.concatenate([force, np.zeros(3)])

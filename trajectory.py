@@ -91,7 +91,7 @@ def _effort_scale(traj: Trajectory, robot: RobotParams | None, lam: float) -> fl
         raise ValueError("effort=True needs the robot (its dynamics and effort limits)")
     import dynamics  # imported only when effort limits are asked for
 
-    drives = getattr(robot, "drives", None)
+    drives = robot.drives
     limit = np.full(traj.n_dofs, np.inf) if drives is None else np.asarray(drives.effort_limit, dtype=float)
 
     def excess(scale: float) -> NDArray[np.float64]:

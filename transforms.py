@@ -217,7 +217,8 @@ def is_rigid_transform(mat: ArrayLike, tol: float = 1e-6) -> bool:
     """True if ``mat`` is a finite (4, 4) matrix with an orthonormal, det +1 rotation
     block (to ``tol``) and bottom row [0, 0, 0, 1]."""
     # Plain float arithmetic on 16 numbers: a few µs, against about 100 µs for the same
-    # tests through NumPy calls (it runs on every frame's base transform).  The tolerances
+    # tests through NumPy calls (it runs on every IK target and every world_tf given to
+    # forward kinematics, e.g. per sample of a Cartesian path).  The tolerances
     # are np.allclose's: |x - expected| <= tol + 1e-5 |expected|.
     m = np.asarray(mat, dtype=float)
     if m.shape != (4, 4):
