@@ -189,19 +189,30 @@ class RobotGraphics(Drawable):
         self.show_com = False
         self.endeff_marker = True  # False while the pick task draws a gripper at the tool
         self.look = robot_look(kinematics.robot)
+        # (frames, show_com, parts): Kinematics.update assigns a new frames array, so the
+        # parts are computed once per pose however often they are asked for
+        self._posed: tuple[NDArray[np.float64], bool, list[Part]] | None = None
 
     @property
     def gl_preset(self) -> str:  # type: ignore[override]
         return "translucent" if self.ghost or self.alpha < 1.0 else "opaque"
 
-    def parts(self) -> list[Part]:
-        """The parts of the current pose (a ghost: those that differ from the reference)."""
+    def posed_parts(self) -> list[Part]:
+        """All parts of the current pose (``robot_parts``), computed once per pose."""
         kin = self.kinematics
-        parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if self.show_com else None)
+        if self._posed is None or self._posed[0] is not kin.frames or self._posed[1] != self.show_com:
+            parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if self.show_com else None)
+            self._posed = (kin.frames, self.show_com, parts)
+        return self._posed[2]
+
+    def parts(self) -> list[Part]:
+        """The parts drawn for the current pose (a ghost: those that differ from the
+        reference's; without ``endeff_marker``: no endeffector sphere)."""
+        parts = self.posed_parts()
+        if self.ghost and self.reference is not None:
+            parts = differing(parts, self.reference.posed_parts())
         if not self.endeff_marker:
             parts = [part for part in parts if part.color != gd.ENDEFF_COLOR]
-        if self.ghost and self.reference is not None:
-            parts = differing(parts, self.reference.parts())
         return parts
 
     def paint(self) -> None:

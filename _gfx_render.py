@@ -110,6 +110,7 @@ def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: 
     if options.show_ghost and scene.ghost is not None:
         ghost = robot_item(scene.ghost, ghost=True)
         ghost.reference, ghost.wireframe, ghost.show_com = robot, options.wireframe, options.show_com
+        ghost.endeff_marker = robot.endeff_marker
         ghost.draw()
     if robot.gl_preset != "opaque":
         robot.draw()

@@ -177,3 +177,24 @@ def test_recording_again_into_a_directory_leaves_only_its_own_frames(tmp_path, m
         "frame_00000.png", "frame_00001.png", "frame_00007.png.bak", "notes.txt"]
     assert (tmp_path / "notes.txt").read_bytes() == b"old"
     assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in frames)
+
+
+def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
+    """While the task's gripper replaces the arm's endeffector sphere, a ghost in another
+    pose draws all its parts except its own sphere (it used to be compared with the arm's
+    shorter part list, out of step, and lose parts)."""
+    import _gfx_render
+    from kinematics import Kinematics
+    from robot_state import RobotState
+
+    session = _pick_session()
+    desired = RobotState(session.robot)
+    desired.set_q(session.state.q() + 0.3)
+    ghost_kin = Kinematics(session.robot)
+    ghost_kin.update(desired.joint_state)
+    scene = session.scene()
+    assert scene.task is not None
+    renderer.render(session.camera, go.Scene(session.kin, ghost=ghost_kin, task=scene.task), session.options)
+    ghost = _gfx_render.robot_item(ghost_kin, ghost=True)
+    expected = [(p.mesh, p.color) for p in ghost.posed_parts() if p.color != gd.ENDEFF_COLOR]
+    assert [(p.mesh, p.color) for p in ghost.parts()] == expected
