@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 import graphics_defs as gd
 from _gfx_gl import GL, draw_arrays, set_color
 from _gfx_resources import Drawable
+from _gfx_robot import dh_segments
 
 RGBA = tuple[float, float, float, float]
 
@@ -103,20 +104,16 @@ def dh_annotation(frames: NDArray[np.float64], joint: int, modified: bool, scale
                             gd.ANNOTATION_ARC_FRAC * scale)
     out = Annotation()
     colors = gd.ANNOTATION_COLORS
+    seg = dh_segments(frames[joint - 1:joint + 1], modified)  # the link's d and a, as drawn
+    d, a, bend = float(seg.d[0]), float(seg.a[0]), seg.bend[0]
     if modified:
         i = joint - 1  # Craig's a and α carry the index of the frame they start from
-        a = float(np.dot(o1 - o0, x0))
-        bend = o0 + a * x0
-        d = float(np.dot(o1 - bend, z1))
         alpha, theta = signed_angle(z0, z1, x0), signed_angle(x0, x1, z1)
         _arc(out, o0, x0, z0, z1, radius, f"α{i} = {_shown(math.degrees(alpha), 1)}°", colors["alpha"])
         _dimension(out, o0, bend, _perpendicular(x0, -z0), offset, tick, f"a{i} = {_shown(a, 3)} m", colors["a"])
         _arc(out, bend, z1, x0, x1, radius, f"θ{joint} = {_shown(math.degrees(theta), 1)}°", colors["theta"])
         _dimension(out, bend, o1, _perpendicular(z1, -x1, -x0), offset, tick, f"d{joint} = {_shown(d, 3)} m", colors["d"])
         return out
-    d = float(np.dot(o1 - o0, z0))
-    bend = o0 + d * z0
-    a = float(np.dot(o1 - bend, x1))
     theta, alpha = signed_angle(x0, x1, z0), signed_angle(z0, z1, x1)
     _dimension(out, o0, bend, _perpendicular(z0, -x1, -x0), offset, tick, f"d{joint} = {_shown(d, 3)} m", colors["d"])
     _arc(out, bend, z0, x0, x1, radius, f"θ{joint} = {_shown(math.degrees(theta), 1)}°", colors["theta"])

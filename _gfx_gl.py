@@ -93,17 +93,11 @@ GL_PRESETS: dict[str, dict[str, Any]] = {
     # lit parts seen through: blended, depth tested, not written (draw after the opaque pass)
     "translucent": {"enable": ("DEPTH_TEST", "LIGHTING", "BLEND"), "disable": (), "depth_mask": False,
                     "blend": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA")},
-    # glowing marks added to what is behind them, never hidden
-    "additive": {"enable": ("BLEND",), "disable": ("DEPTH_TEST", "LIGHTING"), "depth_mask": False,
-                 "blend": ("SRC_ALPHA", "ONE")},
     # unlit lines, points and text drawn over everything (labels, grid lines)
     "overlay": {"enable": ("BLEND",), "disable": ("DEPTH_TEST", "LIGHTING"), "depth_mask": False,
                 "blend": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA")},
     # unlit lines and points, depth tested and written (grid, point cloud)
     "unlit": {"enable": ("DEPTH_TEST",), "disable": ("LIGHTING", "BLEND"), "depth_mask": True, "blend": None},
-    # unlit lines and points seen through: blended, depth tested, not written
-    "unlit_translucent": {"enable": ("DEPTH_TEST", "BLEND"), "disable": ("LIGHTING",), "depth_mask": False,
-                          "blend": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA")},
 }
 
 _PUSHED_BITS = ("ENABLE_BIT", "COLOR_BUFFER_BIT", "DEPTH_BUFFER_BIT", "POLYGON_BIT", "CURRENT_BIT", "LINE_BIT",

@@ -77,7 +77,7 @@ class MotionPanel(QtWidgets.QWidget):
         now = time.monotonic()
         for i, label in enumerate(self.labels):
             flashing = self.flash_until.get(i, 0.0) > now
-            label.setStyleSheet(f"color: {gd.LIMIT_FLASH_COLOR}; font-weight: bold" if flashing else "")
+            _restyle(label, f"color: {gd.LIMIT_FLASH_COLOR}; font-weight: bold" if flashing else "")
         if motion is None or not motion.physical:
             return
         fraction = motion.effort_fraction()
@@ -86,8 +86,15 @@ class MotionPanel(QtWidgets.QWidget):
             bar.setValue(round(min(abs(fraction[i]), 1.0) * gd.EFFORT_BAR_STEPS))
             bar.setFormat(gd.EFFORT_BAR_FORMAT.format(percent=100.0 * fraction[i]))
             color = gd.EFFORT_BAR_SATURATED_COLOR if saturated[i] else gd.EFFORT_BAR_COLOR
-            bar.setStyleSheet(f"QProgressBar::chunk {{ background: {color}; }}")
+            _restyle(bar, f"QProgressBar::chunk {{ background: {color}; }}")
 
     def fractions(self) -> np.ndarray:
         """The bars' values as fractions (for tests and screenshots)."""
         return np.array([bar.value() / gd.EFFORT_BAR_STEPS for bar in self.bars])
+
+
+def _restyle(widget: QtWidgets.QWidget, style: str) -> None:
+    """Set ``style`` only when it changes: Qt re-polishes a widget on every setStyleSheet,
+    about 0.2 ms a tick for seven joints."""
+    if widget.styleSheet() != style:
+        widget.setStyleSheet(style)

@@ -240,8 +240,6 @@ SLIDER_TICKS_PER_DEG = 10            # revolute resolution 0.1 deg
 SLIDER_TICKS_PER_M = 1000            # prismatic resolution 1 mm
 UNLIMITED_REVOLUTE_RANGE_DEG = 180.0 # slider range of a revolute joint without limits
 UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without limits
-SLIDER_LABEL_FORMAT_REVOLUTE = "{name}: {value:+7.1f} deg"
-SLIDER_LABEL_FORMAT_PRISMATIC = "{name}: {value:+7.3f} m"
 
 # Dynamics in the dock: per-joint effort bars (fraction of the effort limit) and the
 # flash of a joint that hits a limit

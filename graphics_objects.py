@@ -11,8 +11,8 @@ The work is done by private modules, one job each:
   points to pixels);
 * ``_gfx_scene``: :class:`Scene` (what a frame shows) and :class:`GraphicsOptions` (how);
 * ``_gfx_gl``: lazily imported PyOpenGL, matrices, client arrays, display lists and GL
-  state scoped by named presets (``gl_state("opaque" | "translucent" | "additive" |
-  "overlay" | ...)``, pushed and popped around each drawable);
+  state scoped by named presets (``gl_state("opaque" | "translucent" | "overlay" |
+  "unlit")``, pushed and popped around each drawable);
 * ``_gfx_meshes``: unit meshes tessellated once;
 * ``_gfx_resources``: per-context GL objects and :class:`Drawable`, the base of every
   drawable, which owns its GL objects and paints itself (pyqtgraph's item model);

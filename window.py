@@ -107,11 +107,7 @@ class GLView(QtWidgets.QOpenGLWidget):
         scene = sim.scene()
         if self.window_.trail is not None:
             scene.trail = self.window_.trail.points()
-        try:
-            go.render_scene(sim.camera, scene, sim.options, width, height)
-        except RuntimeError as exc:  # an exception escaping paintGL aborts PyQt
-            self.window_.message(f"cannot draw: {exc}")
-            return
+        go.render_scene(sim.camera, scene, sim.options, width, height)  # errors: @guarded
         self.paint_times.append(time.monotonic())
         self.window_.refresh_status()
 
@@ -305,8 +301,8 @@ class MainWindow(QtWidgets.QMainWindow):
         except ValueError:  # arms under 6 joints probe their range: an unlimited slider has none
             measure = math.nan
         self.readout.setText(pose_readout(endeff, measure))
-        if self.trail is not None and self.trail.add(endeff.t()):
-            self.view.update()
+        if self.trail is not None:
+            self.trail.add(endeff.t())  # drawn by the view.update() below
         if self.following:
             session.camera.target = endeff.t().copy()
         self.frames_list.blockSignals(True)
