@@ -286,21 +286,22 @@ def resolve_robot_path(name_or_path: str | Path) -> Path:
     return ROBOTS_DIR / f"{text}.toml"
 
 
-def _read_text(path: Path) -> str:
-    """The robot file's text: a regular file of at most MAX_FILE_BYTES, UTF-8 (a leading
-    byte-order mark is dropped).  RobotDefinitionError starting with the path otherwise."""
+def _read_text(path: Path, what: str, error: type[ValueError]) -> str:
+    """The text of ``what`` (e.g. "robot file") at ``path``: a regular file of at most
+    MAX_FILE_BYTES, UTF-8 (a leading byte-order mark is dropped).  ``error`` starting
+    with the path otherwise."""
     try:
         raw = read_regular_file(path, MAX_FILE_BYTES)
     except FileReadError as exc:
-        reason = "robot file not found" if exc.errno == errno.ENOENT else f"cannot read robot file: {exc.reason}"
-        raise RobotDefinitionError(f"{path}: {reason}") from None
+        reason = f"{what} not found" if exc.errno == errno.ENOENT else f"cannot read {what}: {exc.reason}"
+        raise error(f"{path}: {reason}") from None
     body = raw.removeprefix(codecs.BOM_UTF8)
     try:
         return body.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = body.count(b"\n", 0, exc.start) + 1
         column = exc.start - body.rfind(b"\n", 0, exc.start)
-        raise RobotDefinitionError(
+        raise error(
             f"{path}: not UTF-8 text: byte 0x{body[exc.start]:02x} at line {line}, column {column}; "
             "save the file as UTF-8"
         ) from None
@@ -363,15 +364,21 @@ def check_bounds(robot: RobotParams, path: Path | str) -> None:
             raise RobotDefinitionError(f"{path}: {what} offset {offset:g} m beyond the accepted ±{MAX_LENGTH:g} m")
 
 
-def _load_toml(path: Path) -> RobotParams:
-    text = _read_text(path)
+def read_toml(path: Path, what: str = "robot file", error: type[ValueError] = RobotDefinitionError) -> dict[str, Any]:
+    """The parsed TOML of ``what`` at ``path`` (robot and task files): read as by
+    :func:`_read_text`; ``error`` starting with the path for any unreadable or invalid
+    file (nesting too deep, an integer of more than 4300 digits included)."""
+    text = _read_text(path, what, error)
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except RecursionError:
-        raise RobotDefinitionError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
+        raise error(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
     except ValueError as exc:  # TOMLDecodeError, or an integer of more than 4300 digits
-        raise RobotDefinitionError(f"{path}: invalid TOML: {clip(str(exc), 200)}") from None
-    return _parse_robot(data, path)
+        raise error(f"{path}: invalid TOML: {clip(str(exc), 200)}") from None
+
+
+def _load_toml(path: Path) -> RobotParams:
+    return _parse_robot(read_toml(path), path)
 
 
 def parse_robot(data: dict[str, Any], path: str | Path) -> RobotParams:

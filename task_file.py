@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,6 +40,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+import robot_defs
+from messages import clip_repr
 from robot_defs import UNITS
 from transforms import HomogeneousTransform, rot_x
 
@@ -108,47 +109,33 @@ class TaskSpec:
         return float(np.abs(y) @ self.object_size)
 
 
-class _Checker:
-    """Validates the fields of one task file; every error names the file and the field."""
+class _Checker(robot_defs._Checker):
+    """The robot file's field checker (same messages, numbers clipped and overflow-safe),
+    raising :class:`TaskDefinitionError`, with the task file's tables, positive sizes and
+    poses."""
 
-    def __init__(self, path: Path) -> None:
-        self.path = path
-
-    def fail(self, where: str, message: str) -> TaskDefinitionError:
+    def fail(self, where: str, message: str) -> TaskDefinitionError:  # type: ignore[override]
         return TaskDefinitionError(f"{self.path}: {where}: {message}")
-
-    def keys(self, table: dict[str, Any], allowed: set[str], where: str) -> None:
-        unknown = sorted(set(table) - allowed)
-        if unknown:
-            raise self.fail(f"{where}.{unknown[0]}" if where else unknown[0],
-                            f"unknown key {unknown[0]!r}; accepted keys: {', '.join(sorted(allowed))}")
 
     def table(self, data: dict[str, Any], key: str, allowed: set[str]) -> dict[str, Any]:
         if key not in data:
             raise self.fail(key, f"missing required table [{key}]")
         table = data[key]
         if not isinstance(table, dict):
-            raise self.fail(key, f"expected a table, got {table!r}")
+            raise self.fail(key, f"expected a table, got {clip_repr(table)}")
         self.keys(table, allowed, key)
         return table
-
-    def number(self, value: Any, where: str) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(where, f"expected a number, got {value!r}")
-        if not math.isfinite(float(value)):
-            raise self.fail(where, f"expected a finite number, got {value!r}")
-        return float(value)
 
     def positive(self, value: Any, where: str) -> float:
         number = self.number(value, where)
         if number <= 0.0:
-            raise self.fail(where, f"expected a positive number, got {value!r}")
+            raise self.fail(where, f"expected a positive number, got {clip_repr(value)}")
         return number
 
-    def vector(self, value: Any, length: int, where: str, positive: bool = False) -> list[float]:
+    def vector(self, value: Any, length: int, where: str, positive: bool = False) -> list[float]:  # type: ignore[override]
         if not isinstance(value, list) or len(value) != length:
             kind = "positive numbers" if positive else "numbers"
-            raise self.fail(where, f"expected a list of {length} {kind}, got {value!r}")
+            raise self.fail(where, f"expected a list of {length} {kind}, got {clip_repr(value)}")
         check = self.positive if positive else self.number
         return [check(v, f"{where}[{i}]") for i, v in enumerate(value)]
 
@@ -159,16 +146,10 @@ class _Checker:
 
 
 def load_task(path: str | Path) -> TaskSpec:
-    """Read and validate a task file (see the module docstring for the format)."""
+    """Read and validate a task file (see the module docstring for the format); read like a
+    robot file (a regular UTF-8 file of at most 1 MiB, TOML nested sanely)."""
     path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise TaskDefinitionError(f"{path}: not valid TOML: {exc}") from None
-    except OSError as exc:
-        raise TaskDefinitionError(f"{path}: cannot read task file: {exc.strerror}") from None
-    return parse_task(data, path)
+    return parse_task(robot_defs.read_toml(path, "task file", TaskDefinitionError), path)
 
 
 def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:

@@ -147,3 +147,28 @@ def test_bad_task_file_names_file_field_value_and_accepted(tmp_path, edit, messa
     path.write_text(text.replace(edit[0], edit[1], 1))
     with pytest.raises(TaskDefinitionError, match=f"^{path}: {message}"):
         load_task(path)
+
+
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (("lift = 0.1", "lift = 1" + "0" * 400), "motion.lift: expected a finite number, got 1000"),
+        (("lift = 0.1", "lift = " + "[" * 3000 + "]" * 3000), "invalid TOML: arrays or tables nested too deeply"),
+        (('units = "deg"', 'units = "deg"  # angles in \xb0'), "not UTF-8 text: byte 0xb0 at line"),
+    ],
+)
+def test_hostile_task_file_is_one_task_error(tmp_path, edit, message):
+    """Task files are read like robot files: an integer beyond float range, absurd nesting
+    or a Latin-1 byte is a TaskDefinitionError naming the file (they escaped as
+    OverflowError, RecursionError and a bare codec message)."""
+    path = tmp_path / "hostile.toml"
+    text = TASK.format(x=0.4)
+    assert edit[0] in text
+    path.write_bytes(text.replace(edit[0], edit[1], 1).encode("latin-1"))
+    with pytest.raises(TaskDefinitionError, match=f"^{path}: {message}"):
+        load_task(path)
+
+
+def test_task_path_that_is_a_directory_is_one_task_error(tmp_path):
+    with pytest.raises(TaskDefinitionError, match=f"^{tmp_path}: cannot read task file: "):
+        load_task(tmp_path)
