@@ -35,6 +35,10 @@ FloatArray = NDArray[np.float64]
 
 INERTIAL_KEYS = {"mass", "com", "inertia"}
 DRIVE_KEYS = {"motor_inertia", "gear_ratio", "viscous", "coulomb", "effort_limit", "velocity_limit"}
+#: Value of each scalar drive field when a file or caller omits it (an ideal direct drive
+#: without friction or limits); Coulomb friction defaults to [0, 0].
+DRIVE_DEFAULTS = {"motor_inertia": 0.0, "gear_ratio": 1.0, "viscous": 0.0,
+                  "effort_limit": math.inf, "velocity_limit": math.inf}
 
 #: Default density of :func:`estimate_inertials` [kg/m³]: an arm is mostly hollow, so its
 #: links, modelled as solid cylinders, weigh about as much as water would.
@@ -146,12 +150,12 @@ class Drives:
     ) -> "Drives":
         """Drives of n joints; omitted arrays take the defaults of :meth:`default`."""
         values = {
-            "motor_inertia": (motor_inertia, 0.0, (n,)),
-            "gear_ratio": (gear_ratio, 1.0, (n,)),
-            "viscous": (viscous, 0.0, (n,)),
+            "motor_inertia": (motor_inertia, DRIVE_DEFAULTS["motor_inertia"], (n,)),
+            "gear_ratio": (gear_ratio, DRIVE_DEFAULTS["gear_ratio"], (n,)),
+            "viscous": (viscous, DRIVE_DEFAULTS["viscous"], (n,)),
             "coulomb": (coulomb, 0.0, (n, 2)),
-            "effort_limit": (effort_limit, math.inf, (n,)),
-            "velocity_limit": (velocity_limit, math.inf, (n,)),
+            "effort_limit": (effort_limit, DRIVE_DEFAULTS["effort_limit"], (n,)),
+            "velocity_limit": (velocity_limit, DRIVE_DEFAULTS["velocity_limit"], (n,)),
         }
         arrays = {}
         for key, (value, default, shape) in values.items():
@@ -244,9 +248,9 @@ def _parse_drive(check: "_Checker", value: Any, where: str) -> tuple[float, floa
             raise check.fail(f"{where}.{key}", f"{key} {table[key]!r} is out of range; accepted: {accepted}")
         return v
 
-    jm = number("motor_inertia", 0.0, lambda v: v >= 0.0, "a motor inertia >= 0 (kg m^2)")
-    gear = number("gear_ratio", 1.0, lambda v: v != 0.0, "a non-zero gear ratio")
-    viscous = number("viscous", 0.0, lambda v: v >= 0.0, "a viscous friction coefficient >= 0")
+    jm = number("motor_inertia", DRIVE_DEFAULTS["motor_inertia"], lambda v: v >= 0.0, "a motor inertia >= 0 (kg m^2)")
+    gear = number("gear_ratio", DRIVE_DEFAULTS["gear_ratio"], lambda v: v != 0.0, "a non-zero gear ratio")
+    viscous = number("viscous", DRIVE_DEFAULTS["viscous"], lambda v: v >= 0.0, "a viscous friction coefficient >= 0")
     coulomb = [0.0, 0.0]
     if "coulomb" in table:
         coulomb = check.vector(table["coulomb"], 2, f"{where}.coulomb")
@@ -255,8 +259,8 @@ def _parse_drive(check: "_Checker", value: Any, where: str) -> tuple[float, floa
                 f"{where}.coulomb",
                 f"coulomb {table['coulomb']!r} is out of range; accepted: [Tc+, Tc-] with Tc+ >= 0 and Tc- <= 0",
             )
-    effort = number("effort_limit", math.inf, lambda v: v > 0.0, "an effort limit > 0")
-    velocity = number("velocity_limit", math.inf, lambda v: v > 0.0, "a velocity limit > 0")
+    effort = number("effort_limit", DRIVE_DEFAULTS["effort_limit"], lambda v: v > 0.0, "an effort limit > 0")
+    velocity = number("velocity_limit", DRIVE_DEFAULTS["velocity_limit"], lambda v: v > 0.0, "a velocity limit > 0")
     return jm, gear, viscous, coulomb, effort, velocity
 
 

@@ -26,6 +26,7 @@ import tomlkit
 from tomlkit.items import AoT
 
 from fileio import write_atomic
+from inertials import DRIVE_DEFAULTS
 from robot_defs import (
     CONVENTION_STANDARD,
     DEFAULT_COM_FRACTION,
@@ -42,10 +43,6 @@ from transforms import HomogeneousTransform, rpy_from_rot
 EDITABLE_FIELDS = ("type", "theta", "d", "a", "alpha", "home", "limits", "com")
 _TYPE_NAMES = {code: name for name, code in JTYPE_NAMES.items()}
 _DEFAULT_UNITS = "deg"
-_DRIVE_DEFAULTS = (
-    ("motor_inertia", 0.0), ("gear_ratio", 1.0), ("viscous", 0.0),
-    ("effort_limit", math.inf), ("velocity_limit", math.inf),
-)
 
 
 def file_number(value: float, scale: float) -> float:
@@ -174,12 +171,12 @@ def _sync_mass_properties(table: Any, robot: RobotParams, i: int) -> None:
     dr = robot.drives
     drive = _sub_table(table, "drive", dr is not None and (
         "drive" in table or dr.coulomb[i].any() or any(
-            getattr(dr, key)[i] != default for key, default in _DRIVE_DEFAULTS
+            getattr(dr, key)[i] != default for key, default in DRIVE_DEFAULTS.items()
         )
     ))
     if drive is None:
         return
-    for key, default in _DRIVE_DEFAULTS:
+    for key, default in DRIVE_DEFAULTS.items():
         value = float(getattr(dr, key)[i])
         if math.isinf(value) or (key not in drive and value == default):
             if key in drive:
