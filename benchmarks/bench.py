@@ -28,7 +28,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # as simulator.py sets it fo
 
 import numpy as np  # noqa: E402
 
-from kinematics import (  # noqa: E402
+from robot_sim.kinematics import (
     Kinematics,
     forward_kinematics,
     jacobian,
@@ -38,9 +38,10 @@ from kinematics import (  # noqa: E402
 )
 from bench_dynamics import bench_dynamics  # noqa: E402
 from bench_trajectory import bench_trajectory  # noqa: E402
-from dh_convert import to_modified, to_standard  # noqa: E402
-from robot_defs import JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
-from robot_state import RobotState  # noqa: E402
+from robot_sim.model.convert import to_modified, to_standard  # noqa: E402
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
+from robot_sim.model.state import RobotState  # noqa: E402
 import bench_sim  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
 
 ROBOT = "humanoid7"
@@ -271,7 +272,14 @@ def bench_ik(table: Table, robots: list[RobotParams], rng: np.random.Generator) 
 
 
 def bench_render(table: Table, robot: RobotParams) -> None:
-    from graphics_objects import Camera, GraphicsOptions, OffscreenRenderer, Scene, WorkspaceCloud, robot_reach
+    from robot_sim.graphics import (
+        Camera,
+        GraphicsOptions,
+        OffscreenRenderer,
+        Scene,
+        WorkspaceCloud,
+        robot_reach,
+    )
 
     kin = Kinematics(robot)
     options = GraphicsOptions(robot.n_dofs + 1)

@@ -12,8 +12,8 @@ from typing import Callable
 
 import numpy as np
 
-import dynamics
-from robot_defs import JTYPE_REVOLUTE, RobotParams
+from robot_sim import dynamics
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 
 N_BATCH = 10**5
 N_BASELINE = 300

@@ -21,10 +21,11 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-import dynamics  # noqa: E402
-from control import ComputedTorque, control_gains  # noqa: E402
-from robot_defs import RobotParams, load_robot  # noqa: E402
-from simulation import Simulation  # noqa: E402
+from robot_sim import dynamics  # noqa: E402
+from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
+from robot_sim.model.params import RobotParams
+from robot_sim.io.robot_file import load_robot  # noqa: E402
+from robot_sim.control.simulation import Simulation  # noqa: E402
 
 STEPS = 200  # steps per sample
 

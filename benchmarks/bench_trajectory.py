@@ -12,11 +12,11 @@ from typing import Callable
 
 import numpy as np
 
-from _cartesian_path import FOLLOW_MAX_ITER, FOLLOW_TOL
-from kinematics import forward_kinematics, solve_ik
-from pick_task import default_plan, plan_pick
-from robot_defs import RobotParams
-from trajectory import cartesian_line
+from robot_sim.planning.cartesian import FOLLOW_MAX_ITER, FOLLOW_TOL
+from robot_sim.kinematics import forward_kinematics, solve_ik
+from robot_sim.planning.pick_task import default_plan, plan_pick
+from robot_sim.model.params import RobotParams
+from robot_sim.planning.scaling import cartesian_line
 
 LINE_DURATION = 1.0
 N_EVALUATE = 10**5

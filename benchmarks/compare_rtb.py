@@ -31,8 +31,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import roboticstoolbox as rtb  # noqa: E402
 from spatialmath import SE3  # noqa: E402
 
-from kinematics import forward_kinematics, random_configurations, solve_ik  # noqa: E402
-from robot_defs import RobotParams, load_robot  # noqa: E402
+from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik  # noqa: E402
+from robot_sim.model.params import RobotParams
+from robot_sim.io.robot_file import load_robot  # noqa: E402
 
 N_TARGETS = 200
 TOL = 1e-6  # m and rad, both solvers

@@ -14,10 +14,11 @@ from typing import Callable
 
 import numpy as np
 
-from dh_convert import to_convention
-from inertials import LinkInertials
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, available_robots, load_robot
-from transforms import HomogeneousTransform
+from robot_sim.model.convert import to_convention
+from robot_sim.model.inertials import LinkInertials
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import available_robots, load_robot
+from robot_sim.transforms import HomogeneousTransform
 
 #: Every robot shipped in robots/.
 ROBOT_NAMES = available_robots()

@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
-from inertials import Drives, LinkInertials
+from robot_sim.model.inertials import Drives, LinkInertials
 from kin_helpers import robot
-from robot_defs import JTYPE_REVOLUTE, RobotParams
-from transforms import HomogeneousTransform
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.transforms import HomogeneousTransform
 
 PENDULUM_LENGTH = 0.5
 PENDULUM_MASS = 2.0

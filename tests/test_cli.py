@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from robot_defs import RobotDefinitionError, available_robots, load_robot
+from robot_sim.model.params import RobotDefinitionError
+from robot_sim.io.robot_file import available_robots, load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
 SIMULATOR = ROOT / "simulator.py"
@@ -196,7 +197,7 @@ def test_screenshot_with_another_extension_is_refused_and_nothing_written(tmp_pa
     [(None, None), ("none", []), ("0", [0]), ("2, 0", [2, 0]), ("0,E", [0, 4]), ("e", [4]), ("all", [0, 1, 2, 3, 4])],
 )
 def test_frames_option_lists_exactly_the_frames_to_show(text: str | None, expected: list[int] | None) -> None:
-    from _cli import parse_frames, session_from_config, config_from_args, build_parser
+    from robot_sim.app.cli import parse_frames, session_from_config, config_from_args, build_parser
 
     assert parse_frames(text, 4) == expected
     args = ["--screenshot", "unused.png"] + ([] if text is None else ["--frames", text])
@@ -211,8 +212,8 @@ def test_frames_option_lists_exactly_the_frames_to_show(text: str | None, expect
 def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
     """``--frames 0`` shows the base frame (it used to toggle it off): red and green pixels
     where Camera.project puts its x and y axes, absent with ``--frames none``."""
-    import graphics_objects as go
-    from _cli import build_parser, config_from_args, session_from_config
+    from robot_sim import graphics as go
+    from robot_sim.app.cli import build_parser, config_from_args, session_from_config
 
     pictures, sessions = {}, {}
     for frames in ("0", "none"):

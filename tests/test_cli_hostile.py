@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from kinematics import max_workspace_samples
-from robot_defs import ROBOTS_DIR, load_robot
+from robot_sim.kinematics import max_workspace_samples
+from robot_sim.io.robot_file import ROBOTS_DIR, load_robot
 from unprivileged import call_unprivileged
 
 ROOT = Path(__file__).resolve().parents[1]

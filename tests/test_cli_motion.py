@@ -6,11 +6,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import dynamics
-from _cli import build_parser, config_from_args, session_from_config
-from control import control_gains
+from robot_sim import dynamics
+from robot_sim.app.cli import build_parser, config_from_args, session_from_config
+from robot_sim.control.controllers import control_gains
 from kin_helpers import robot
-from kinematics import forward_kinematics
+from robot_sim.kinematics import forward_kinematics
 from test_cli import assert_one_line_error, read_png, run
 
 

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from _cli_robot import dh_table_text, export
+from robot_sim.app.robot_cmds import dh_table_text, export
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_q, robot
-from kinematics import forward_kinematics
-from robot_defs import load_robot
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.io.robot_file import load_robot
 from test_cli import assert_one_line_error, run
 from urdf_helpers import parse, urdf_fk
 

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-import dynamics
-from control import (
+from robot_sim import dynamics
+from robot_sim.control.controllers import (
     DEFAULT_BANDWIDTH_HZ,
     DEFAULT_DAMPING,
     PD,
@@ -19,7 +19,8 @@ from control import (
     make_controller,
 )
 from kin_helpers import robot
-from robot_defs import ROBOTS_DIR, RobotDefinitionError, load_robot
+from robot_sim.io.robot_file import ROBOTS_DIR, load_robot
+from robot_sim.model.params import RobotDefinitionError
 
 RNG = np.random.default_rng(8)
 

@@ -8,12 +8,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dh_convert import to_convention, to_modified, to_standard
-from dynamics import gravity_torque, mass_matrix
+from robot_sim.model.convert import to_convention, to_modified, to_standard
+from robot_sim.dynamics import gravity_torque, mass_matrix
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, h_rot_x, h_rot_z, h_trans, random_dh_robot, random_q, robot
-from kinematics import forward_kinematics, jacobian, solve_ik, workspace_points
-from robot_defs import JTYPE_REVOLUTE, RobotParams
-from transforms import HomogeneousTransform
+from robot_sim.kinematics import forward_kinematics, jacobian, solve_ik, workspace_points
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.transforms import HomogeneousTransform
 
 HALF_PI = np.pi / 2
 seeds = st.integers(0, 2**32 - 1)

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from dh_table import COLUMNS, carry_joint_values, cell_text, edit_cell, is_editable
+from robot_sim.viewer.dh_table import COLUMNS, carry_joint_values, cell_text, edit_cell, is_editable
 from kin_helpers import robot
-from robot_defs import JTYPE_PRISMATIC
-from robot_writer import with_dh_value
+from robot_sim.model.params import JTYPE_PRISMATIC
+from robot_sim.io.robot_writer import with_dh_value
 
 DEG = math.pi / 180.0
 

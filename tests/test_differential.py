@@ -11,10 +11,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, expected_coms, fd_pose_rates, random_dh_robot, random_q, random_rigid, robot
-from kinematics import Kinematics, diff_ik_velocity, forward_kinematics, jacobian, manipulability, workspace_points
-from robot_defs import RobotParams
-from robot_state import RobotState
-from transforms import HomogeneousTransform
+from robot_sim.kinematics import (
+    Kinematics,
+    diff_ik_velocity,
+    forward_kinematics,
+    jacobian,
+    manipulability,
+    workspace_points,
+)
+from robot_sim.model.params import RobotParams
+from robot_sim.model.state import RobotState
+from robot_sim.transforms import HomogeneousTransform
 
 FD_TOL = 1e-6  # finite differences against analytic rates (FD error is ~1e-10)
 

@@ -8,13 +8,13 @@ import math
 import numpy as np
 import pytest
 
-import dynamics as dyn
-from dh_convert import to_modified
-from inertials import Drives, LinkInertials
+from robot_sim import dynamics as dyn
+from robot_sim.model.convert import to_modified
+from robot_sim.model.inertials import Drives, LinkInertials
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_dh_robot, random_inertials, random_q, robot
-from kinematics import jacobian
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
-from transforms import HomogeneousTransform
+from robot_sim.kinematics import jacobian
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.transforms import HomogeneousTransform
 
 G = 9.81
 #: frame 0's y axis pointing up, so planar arms (z axes horizontal) move in a vertical plane

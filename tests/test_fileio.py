@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-import fileio
-from fileio import FileWriteError, write_atomic
+from robot_sim.io import files as fileio
+from robot_sim.io.files import FileWriteError, write_atomic
 
 
 def listing(directory: Path) -> list[str]:

@@ -36,10 +36,10 @@ from kin_helpers import (
     random_rigid,
     robot,
 )
-from kinematics import CHUNK, Kinematics, forward_kinematics
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
-from robot_state import RobotState
-from transforms import HomogeneousTransform, angle_axis_from_vec_dir, rot_from_angle_axis
+from robot_sim.kinematics import CHUNK, Kinematics, forward_kinematics
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.model.state import RobotState
+from robot_sim.transforms import HomogeneousTransform, angle_axis_from_vec_dir, rot_from_angle_axis
 
 HALF_PI = np.pi / 2
 seeds = st.integers(0, 2**32 - 1)

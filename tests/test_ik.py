@@ -5,9 +5,10 @@ import numpy as np
 import pytest
 
 from kin_helpers import CONVENTIONS, robot as shipped
-from kinematics import forward_kinematics, random_configurations, solve_ik
-from robot_defs import RobotParams, load_robot
-from transforms import HomogeneousTransform, rot_z
+from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik
+from robot_sim.model.params import RobotParams
+from robot_sim.io.robot_file import load_robot
+from robot_sim.transforms import HomogeneousTransform, rot_z
 
 N_TARGETS = 200
 FULL_POSE_ROBOTS = ["anthropomorphic6", "humanoid7", "stanford", "puma560", "ur5"]

@@ -8,11 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from inertials import DEFAULT_DENSITY, ESTIMATE_RADIUS_FRAC, Drives, LinkInertials, estimate_inertials
+from robot_sim.model.estimate import DEFAULT_DENSITY, ESTIMATE_RADIUS_FRAC, estimate_inertials
+from robot_sim.model.inertials import Drives, LinkInertials
 from kin_helpers import ROBOT_NAMES, expected_coms, random_dh_robot, random_inertials, random_q, robot
-from kinematics import Kinematics, forward_kinematics
-from robot_defs import RobotDefinitionError, RobotParams, load_robot
-from robot_state import RobotState
+from robot_sim.kinematics import Kinematics, forward_kinematics
+from robot_sim.model.params import RobotDefinitionError, RobotParams
+from robot_sim.io.robot_file import load_robot
+from robot_sim.model.state import RobotState
 
 # robots whose files carry published inertial data (the library's are checked in
 # test_robot_library.py); every other file ships estimate_inertials' output

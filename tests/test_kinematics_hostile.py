@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot as shipped
-from kinematics import (
+from robot_sim.kinematics import (
     Kinematics,
     forward_kinematics,
     jacobian,
@@ -20,9 +20,9 @@ from kinematics import (
     solve_ik,
     workspace_points,
 )
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
-from robot_state import JointState, RobotState
-from transforms import HomogeneousTransform
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.model.state import JointState, RobotState
+from robot_sim.transforms import HomogeneousTransform
 
 SCALES = (1e-3, 1e-2, 1.0, 1e2, 1e3)
 N_SCALE_TARGETS = 40

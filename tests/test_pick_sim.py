@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot
-from kinematics import forward_kinematics
-from pick_sim import simulate_pick
-from pick_task import default_plan
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.control.pick_run import simulate_pick
+from robot_sim.planning.pick_task import default_plan
 
 
 @pytest.fixture(scope="module")

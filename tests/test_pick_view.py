@@ -6,14 +6,14 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-import graphics_defs as gd
-import graphics_objects as go
-import recording
-from _gfx_task import gripper_placements
+from robot_sim.graphics import defs as gd
+from robot_sim import graphics as go
+from robot_sim.viewer import recording
+from robot_sim.graphics.items.task import gripper_placements
 from kin_helpers import robot
-from pick_task import default_plan
+from robot_sim.planning.pick_task import default_plan
 from test_cli import assert_one_line_error, read_png, run
-from viewer_state import ViewerSession
+from robot_sim.viewer.session import ViewerSession
 
 W, H = 640, 480
 
@@ -183,9 +183,9 @@ def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
     """While the task's gripper replaces the arm's endeffector sphere, a ghost in another
     pose draws all its parts except its own sphere (it used to be compared with the arm's
     shorter part list, out of step, and lose parts)."""
-    import _gfx_render
-    from kinematics import Kinematics
-    from robot_state import RobotState
+    from robot_sim.graphics import render as _gfx_render
+    from robot_sim.kinematics import Kinematics
+    from robot_sim.model.state import RobotState
 
     session = _pick_session()
     desired = RobotState(session.robot)

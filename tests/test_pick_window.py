@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import graphics_defs as gd
+from robot_sim.graphics import defs as gd
 from test_window import app, open_window  # noqa: F401 - the QApplication fixture
 
 from PyQt5.QtGui import QColor, QImage  # noqa: E402

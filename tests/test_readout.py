@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import math
 
-from readout import pose_readout
-from transforms import HomogeneousTransform
+from robot_sim.viewer.readout import pose_readout
+from robot_sim.transforms import HomogeneousTransform
 
 
 def test_pose_readout_worked_example():

@@ -24,15 +24,16 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 import pytest
 
-import graphics_objects as go
+from robot_sim import graphics as go
 
 go.require_osmesa_platform()
 
-import graphics_defs as gd  # noqa: E402
-from kinematics import Kinematics  # noqa: E402
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, load_robot  # noqa: E402
-from robot_state import RobotState  # noqa: E402
-from transforms import HomogeneousTransform  # noqa: E402
+from robot_sim.graphics import defs as gd  # noqa: E402
+from robot_sim.kinematics import Kinematics  # noqa: E402
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import load_robot  # noqa: E402
+from robot_sim.model.state import RobotState  # noqa: E402
+from robot_sim.transforms import HomogeneousTransform  # noqa: E402
 
 W, H = 320, 240
 DEG = math.pi / 180.0

@@ -7,17 +7,10 @@ import numpy as np
 import pytest
 
 from kin_helpers import ROBOT_NAMES, h_rot_x, h_rot_z, robot
-from robot_defs import (
-    JTYPE_PRISMATIC,
-    JTYPE_REVOLUTE,
-    ROBOTS_DIR,
-    RobotDefinitionError,
-    RobotParams,
-    available_robots,
-    load_robot,
-)
-from robot_state import RobotState
-from transforms import rot_y
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotDefinitionError, RobotParams
+from robot_sim.io.robot_file import ROBOTS_DIR, available_robots, load_robot
+from robot_sim.model.state import RobotState
+from robot_sim.transforms import rot_y
 
 DEG = math.pi / 180.0
 

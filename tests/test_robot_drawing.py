@@ -13,13 +13,14 @@ import math
 import numpy as np
 import pytest
 
-import graphics_objects as go
+from robot_sim import graphics as go
 
 go.require_osmesa_platform()
 
-import graphics_defs as gd  # noqa: E402
-from kinematics import forward_kinematics  # noqa: E402
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, available_robots, load_robot  # noqa: E402
+from robot_sim.graphics import defs as gd  # noqa: E402
+from robot_sim.kinematics import forward_kinematics  # noqa: E402
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
 from test_render import (  # noqa: E402
     DEG,
     Frames,
@@ -34,8 +35,8 @@ from test_render import (  # noqa: E402
     robot_mask,
     window,
 )
-from transforms import HomogeneousTransform  # noqa: E402
-from viewer_state import ViewerSession  # noqa: E402
+from robot_sim.transforms import HomogeneousTransform  # noqa: E402
+from robot_sim.viewer.session import ViewerSession  # noqa: E402
 
 R_, P_ = JTYPE_REVOLUTE, JTYPE_PRISMATIC
 

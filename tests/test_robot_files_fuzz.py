@@ -14,8 +14,9 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from kinematics import forward_kinematics
-from robot_defs import JTYPE_REVOLUTE, MAX_LENGTH, ROBOTS_DIR, RobotDefinitionError, RobotParams, load_robot
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotDefinitionError, RobotParams
+from robot_sim.io.robot_file import MAX_LENGTH, ROBOTS_DIR, load_robot
 
 SHIPPED = sorted(ROBOTS_DIR.glob("*.toml"))
 FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

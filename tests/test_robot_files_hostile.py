@@ -11,16 +11,13 @@ import numpy as np
 import pytest
 
 from unprivileged import call_unprivileged
-from robot_defs import (
-    JTYPE_PRISMATIC,
-    JTYPE_REVOLUTE,
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotDefinitionError, RobotParams
+from robot_sim.io.robot_file import (
     MAX_ANGLE_DEG,
     MAX_FILE_BYTES,
     MAX_JOINTS,
     MAX_LENGTH,
     ROBOTS_DIR,
-    RobotDefinitionError,
-    RobotParams,
     load_robot,
 )
 
@@ -136,7 +133,7 @@ def test_base_and_tool_are_bounded(tmp_path):
 
 
 def test_values_at_the_bounds_load_with_finite_kinematics(tmp_path):
-    from kinematics import forward_kinematics
+    from robot_sim.kinematics import forward_kinematics
 
     big = (
         f"type = \"revolute\"\na = {MAX_LENGTH}\nalpha = {MAX_ANGLE_DEG}\nd = {-MAX_LENGTH}\n"

@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot
-from kinematics import forward_kinematics
-from robot_defs import JTYPE_REVOLUTE, ROBOTS_DIR, available_robots
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.model.params import JTYPE_REVOLUTE
+from robot_sim.io.robot_file import ROBOTS_DIR, available_robots
 
 DEG = math.pi / 180.0
 

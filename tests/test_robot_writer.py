@@ -13,9 +13,10 @@ import pytest
 from hypothesis import given, strategies as st
 
 from kin_helpers import ROBOT_NAMES, robot
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams, load_robot
-from robot_writer import file_number, save_robot, to_toml, with_dh_value
-from transforms import HomogeneousTransform
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import load_robot
+from robot_sim.io.robot_writer import file_number, save_robot, to_toml, with_dh_value
+from robot_sim.transforms import HomogeneousTransform
 
 DEG = math.pi / 180.0
 ARRAYS = ("dh_a", "dh_alpha", "dh_d", "dh_th", "jtype", "q_home", "q_min", "q_max", "link_com_frac")

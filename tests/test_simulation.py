@@ -6,17 +6,18 @@ import math
 import numpy as np
 import pytest
 
-import dynamics
-import graphics_defs as gd
-from control import PD, ComputedTorque, Controller, Gains, PDGravity, control_gains
-from inertials import Drives
+from robot_sim import dynamics
+from robot_sim.graphics import defs as gd
+from robot_sim.control.controllers import PD, ComputedTorque, Controller, Gains, PDGravity, control_gains
+from robot_sim.model.inertials import Drives
 from kin_helpers import ROBOT_NAMES, robot
-from kinematics import forward_kinematics, jacobian
-from robot_defs import JTYPE_REVOLUTE, RobotParams, load_robot
-from robot_state import RobotState
+from robot_sim.kinematics import forward_kinematics, jacobian
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.io.robot_file import load_robot
+from robot_sim.model.state import RobotState
 from sim_helpers import PENDULUM_LENGTH, PENDULUM_MASS, frictionless, pendulum, quintic
-from simulation import LimitEvent, Simulation
-from viewer_state import ViewerSession
+from robot_sim.control.simulation import LimitEvent, Simulation
+from robot_sim.viewer.session import ViewerSession
 
 
 def _energy(rob, q, qd) -> float:
@@ -320,3 +321,30 @@ def test_computed_torque_tracks_the_circle_demo(name: str, bound_m: float) -> No
     assert session.motion.sim.stopped is None
     assert session.motion.sim.time == pytest.approx(2 * gd.DEMO_CIRCLE_PERIOD_S, abs=1e-9)
     assert max(errors) < bound_m, f"{name}: {max(errors) * 1000:.2f} mm"
+
+
+def test_state_set_from_outside_is_where_the_next_step_starts():
+    """One source of truth: q and qd set through ``sim.state`` before ``step`` are simulated
+    from, exactly as a fresh Simulation on that state would be (no load_state call)."""
+    rob = frictionless("humanoid7")
+    sim = Simulation(rob)
+    sim.step(50)
+    q0 = rob.q_home + 0.3
+    qd0 = np.linspace(-0.5, 0.5, rob.n_dofs)
+    sim.state.set_q(q0)
+    sim.state.set_qd(qd0)
+    sim.step(20)
+    fresh_state = RobotState(rob)
+    fresh_state.set_q(q0)
+    fresh_state.set_qd(qd0)
+    fresh = Simulation(rob, fresh_state)
+    fresh.step(20)
+    np.testing.assert_array_equal(sim.state.q(), fresh.state.q())
+    np.testing.assert_array_equal(sim.state.qd(), fresh.state.qd())
+    # and a state nobody touched keeps the loop's own (unrounded) values: 20 + 20 steps
+    # in two calls equal 40 in one
+    a, b = Simulation(rob), Simulation(rob)
+    a.step(20)
+    a.step(20)
+    b.step(40)
+    np.testing.assert_array_equal(a.q, b.q)

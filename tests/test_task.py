@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from kin_helpers import ROBOT_NAMES, robot
-from kinematics import forward_kinematics
-from pick_task import GRIPPER_CLEARANCE, PHASES, TaskError, default_plan, plan_pick
-from task_file import TaskDefinitionError, load_task, task_toml
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.planning.pick_task import GRIPPER_CLEARANCE, PHASES, TaskError, default_plan, plan_pick
+from robot_sim.planning.task_file import TaskDefinitionError, load_task, task_toml
 
 ARMS = [name for name in ROBOT_NAMES if robot(name).n_dofs >= 6]
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from trail import Trail
+from robot_sim.viewer.trail import Trail
 
 
 def test_points_closer_than_min_step_are_skipped():

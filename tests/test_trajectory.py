@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot
-from kinematics import forward_kinematics
-from robot_defs import RobotParams
-from trajectory import (
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.model.params import RobotParams
+from robot_sim.planning.scaling import (
     CartesianPathError,
     Trajectory,
     cartesian_arc,
@@ -19,7 +19,7 @@ from trajectory import (
     trapezoidal,
     via_points,
 )
-from transforms import rot_from_angle_axis, rotation_log
+from robot_sim.transforms import rot_from_angle_axis, rotation_log
 
 Q0, Q1 = np.array([0.3, -1.0, 2.0]), np.array([-0.5, 0.4, 2.0])
 
@@ -254,7 +254,7 @@ def test_scale_to_limits_slows_uniformly_to_the_limit():
 def test_scale_to_limits_meets_effort_limits_exactly_with_friction():
     import dataclasses
 
-    import dynamics
+    from robot_sim import dynamics
 
     arm = robot("puma560")
     tr = quintic(arm.q_home, arm.q_home + [0.8, -0.6, 0.9, 0.5, -0.7, 1.0], 0.6)

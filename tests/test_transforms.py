@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kin_helpers import dh_by_hand, h_rot_x, h_rot_z, random_rigid, random_rotation, rodrigues
-from transforms import (
+from robot_sim.transforms import (
     HomogeneousTransform,
     angle_axis_from_vec_dir,
     dh_transform,

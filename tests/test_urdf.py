@@ -13,10 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_dh_robot, random_q, robot
-from dynamics import gravity_torque, mass_matrix
-from kinematics import forward_kinematics
-from robot_defs import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotDefinitionError, load_robot
-from urdf import to_urdf
+from robot_sim.dynamics import gravity_torque, mass_matrix
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotDefinitionError
+from robot_sim.io.robot_file import load_robot
+from robot_sim.io.urdf_out import to_urdf
 from urdf_helpers import chain, moving, origin_matrix, parse, urdf_fk, urdf_mass_matrix
 
 DATA = Path(__file__).parent / "data"

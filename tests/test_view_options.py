@@ -8,14 +8,14 @@ from typing import Iterator
 import numpy as np
 import pytest
 
-import graphics_objects as go
+from robot_sim import graphics as go
 
 go.require_osmesa_platform()
 
-import graphics_defs as gd  # noqa: E402
-from kinematics import Kinematics  # noqa: E402
-from robot_defs import load_robot  # noqa: E402
-from robot_state import RobotState  # noqa: E402
+from robot_sim.graphics import defs as gd  # noqa: E402
+from robot_sim.kinematics import Kinematics  # noqa: E402
+from robot_sim.io.robot_file import load_robot  # noqa: E402
+from robot_sim.model.state import RobotState  # noqa: E402
 
 W, H = 320, 240
 
@@ -116,7 +116,7 @@ def test_fit_on_annotation_frames_the_annotated_joint() -> None:
     frames) rather than the whole arm: every annotation point is in the picture, and the
     annotation spans at least 1.5 times as many pixels as when the whole arm is framed
     (about 2× for PUMA 560's joint 3)."""
-    from viewer_state import ViewerSession
+    from robot_sim.viewer.session import ViewerSession
 
     session = ViewerSession(load_robot("puma560"), aspect=800 / 600)
     session.set_q(np.radians([0.0, 45.0, -135.0, 0.0, 45.0, 0.0]))
@@ -145,7 +145,7 @@ def test_framing_includes_the_ghost_when_it_is_drawn() -> None:
     """PUMA 560 falls for 1.5 s (passive) while its desired state stays at home: the ghost
     is drawn apart from the arm, and fit_camera keeps every corner of its parts in view
     (it used to frame the arm alone and cut the ghost off at the top)."""
-    from viewer_state import ViewerSession
+    from robot_sim.viewer.session import ViewerSession
 
     session = ViewerSession(load_robot("puma560"), aspect=1024 / 768)
     session.set_motion("passive")

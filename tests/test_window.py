@@ -7,6 +7,8 @@ and checks that the picture changed the way the input says.  Pixel positions com
 """
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import os
 from pathlib import Path
@@ -15,8 +17,9 @@ from typing import Any, Iterator
 import numpy as np
 import pytest
 
-import graphics_defs as gd
-import graphics_objects
+from robot_sim.graphics import defs as gd
+from robot_sim import graphics as graphics_objects
+from robot_sim.app import cli
 import simulator
 
 if "OpenGL.platform" not in __import__("sys").modules:
@@ -27,8 +30,8 @@ from PyQt5.QtGui import QImage, QMouseEvent, QWheelEvent  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication, QSlider  # noqa: E402
 
-import window as viewer_window  # noqa: E402
-from _win_overlays import help_lines  # noqa: E402
+from robot_sim.qt import window as viewer_window  # noqa: E402
+from robot_sim.qt.overlays import help_lines  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -42,7 +45,7 @@ def app() -> QApplication:
 
 def open_window(app: QApplication, *args: str) -> Any:
     config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "900x640", *args]))
-    window = viewer_window.MainWindow(config)
+    window = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
     window.show()
     window.activateWindow()
     window.view.setFocus()
@@ -356,7 +359,7 @@ def test_frames_past_nine_reachable_in_dock(app: QApplication, tmp_path: Path) -
 @pytest.mark.window
 def test_workspace_cloud_computed_in_background(app: QApplication, window: Any) -> None:
     before = grab(window)
-    window.config.workspace = 20000
+    window.options = dataclasses.replace(window.options, workspace=20000)
     press(app, Qt.Key_E)
     assert window.session.options.show_workspace
     wait_until(lambda: window.session.workspace is not None)

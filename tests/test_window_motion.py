@@ -12,11 +12,11 @@ from PyQt5.QtGui import QMouseEvent
 from PyQt5.QtTest import QTest
 from PyQt5.QtWidgets import QApplication
 
-import graphics_defs as gd
-from control import MOTION_LABELS, MOTION_MODES
+from robot_sim.graphics import defs as gd
+from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
 from test_window import app, grab, open_window, press, project, wait_until  # noqa: F401 (app is a fixture)
 
-from _win_overlays import help_lines  # noqa: E402
+from robot_sim.qt.overlays import help_lines  # noqa: E402
 
 
 @pytest.fixture

@@ -7,6 +7,8 @@ helpers this module shares.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import os
 from pathlib import Path
@@ -15,15 +17,15 @@ from typing import Any
 import numpy as np
 import pytest
 
-import graphics_defs as gd
+from robot_sim.graphics import defs as gd
 from test_window import app, changed_pixels, grab, is_red, open_window, press, project, wait_until  # noqa: F401
 
 from PyQt5.QtCore import Qt  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 
-from dh_table import COLUMNS  # noqa: E402
-from readout import pose_readout  # noqa: E402
-from kinematics import manipulability  # noqa: E402
+from robot_sim.viewer.dh_table import COLUMNS  # noqa: E402
+from robot_sim.viewer.readout import pose_readout  # noqa: E402
+from robot_sim.kinematics import manipulability  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.window
@@ -146,7 +148,7 @@ def test_save_as_keeps_the_comments_and_watches_the_new_file(app: Any, planar: A
 
 
 def test_save_as_urdf_and_back_to_toml(app: Any, planar: Any, tmp_path: Path) -> None:
-    from robot_defs import load_robot
+    from robot_sim.io.robot_file import load_robot
 
     urdf = tmp_path / "planar3.urdf"
     assert planar.dh_dock.save_to(urdf)
@@ -263,7 +265,7 @@ def test_top_view_and_orthographic_toggle(app: Any, planar: Any) -> None:
 
 
 def test_grid_scale_is_shown(app: Any, planar: Any) -> None:
-    import graphics_objects as go
+    from robot_sim import graphics as go
 
     step = go.GroundGraphics.for_reach(go.robot_reach(planar.session.robot)).step
     assert planar.view.info.status_text().startswith(f"grid {step:g} m")
@@ -306,7 +308,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
 
 
 def test_workspace_cloud_has_a_colour_legend(app: Any, planar: Any) -> None:
-    planar.config.workspace = 5000
+    planar.options = dataclasses.replace(planar.options, workspace=5000)
     press(app, Qt.Key_E)
     wait_until(lambda: planar.session.workspace is not None)
     planar.sync_widgets()

@@ -2,12 +2,15 @@
 while computing cancels, switching robot cancels, a failure is shown in the status bar."""
 from __future__ import annotations
 
+import dataclasses
+
 import os
 import time
 from typing import Any, Callable
 
 import pytest
 
+from robot_sim.app import cli
 import simulator
 
 if "OpenGL.platform" not in __import__("sys").modules:
@@ -17,8 +20,8 @@ from PyQt5.QtCore import Qt  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication  # noqa: E402
 
-import window as viewer_window  # noqa: E402
-from workspace_job import CANCELLED, COMPUTING, FAILED, IDLE, SHOWN  # noqa: E402
+from robot_sim.qt import window as viewer_window  # noqa: E402
+from robot_sim.viewer.workspace_job import CANCELLED, COMPUTING, FAILED, IDLE, SHOWN  # noqa: E402
 
 BIG = 3_000_000  # points: seconds of work, so a second key press lands while computing
 
@@ -32,7 +35,7 @@ def app() -> QApplication:
 
 def open_window(*args: str) -> Any:
     config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "800x600", *args]))
-    win = viewer_window.MainWindow(config)
+    win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
     win.show()
     win.view.setFocus()
     assert QTest.qWaitForWindowExposed(win)
@@ -54,7 +57,7 @@ def press_e(win: Any) -> None:
 def test_e_twice_while_computing_cancels(app: QApplication) -> None:
     win = open_window()
     try:
-        win.config.workspace = BIG
+        win.options = dataclasses.replace(win.options, workspace=BIG)
         press_e(win)
         assert win.workspace.state == COMPUTING
         assert "workspace: computing" in win.status.text()
@@ -66,7 +69,7 @@ def test_e_twice_while_computing_cancels(app: QApplication) -> None:
         QTest.qWait(50)
         assert win.workspace.state == CANCELLED and win.session.workspace is None
         assert "workspace: cancelled" in win.status.text()
-        win.config.workspace = 5000
+        win.options = dataclasses.replace(win.options, workspace=5000)
         press_e(win)  # a third press starts afresh
         wait_until(lambda: win.workspace.state == SHOWN)
         assert len(win.session.workspace.points) == 5000 and win.session.options.show_workspace
@@ -78,7 +81,7 @@ def test_e_twice_while_computing_cancels(app: QApplication) -> None:
 def test_switching_robot_cancels_the_computation(app: QApplication) -> None:
     win = open_window()
     try:
-        win.config.workspace = BIG
+        win.options = dataclasses.replace(win.options, workspace=BIG)
         press_e(win)
         thread = win.workspace._thread
         win.choose_robot("puma560")

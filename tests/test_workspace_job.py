@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot as shipped
-from kinematics import WorkspaceCancelled, workspace_points
-from robot_defs import JTYPE_PRISMATIC, RobotParams
-from viewer_state import compute_workspace
-from workspace_job import CANCELLED, COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
+from robot_sim.kinematics import WorkspaceCancelled, workspace_points
+from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
+from robot_sim.viewer.session import compute_workspace
+from robot_sim.viewer.workspace_job import CANCELLED, COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
 
 class Notifications:

@@ -19,8 +19,9 @@ from PyQt5.QtGui import QWheelEvent  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication  # noqa: E402
 
+from robot_sim.app import cli
 import simulator  # noqa: E402
-import window as viewer_window  # noqa: E402
+from robot_sim.qt import window as viewer_window  # noqa: E402
 
 
 class Boom(Exception):
@@ -34,7 +35,7 @@ def raiser(*args, **kwargs):
 def main(case: str) -> None:
     app = QApplication(["probe"])
     config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "640x480"]))
-    win = viewer_window.MainWindow(config)
+    win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
     win.show()
     QTest.qWaitForWindowExposed(win)
     app.processEvents()

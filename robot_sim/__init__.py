@@ -1,0 +1,81 @@
+"""robot_sim: a simulator for fixed-base manipulators described by DH parameters or URDF.
+
+``import robot_sim as rs`` is the flat public API; names are imported on first use, so
+``import robot_sim`` itself loads nothing heavy (and never Qt or OpenGL)::
+
+    import robot_sim as rs
+    robot = rs.load_robot("puma560")
+    T = rs.forward_kinematics(robot, robot.q_home)[-1]
+
+The subpackages are the architecture (see docs/layout.md): ``model``, ``io``,
+``kinematics``, ``dynamics``, ``control``, ``planning``, ``graphics``, ``viewer``, ``qt``, ``app``.
+"""
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+#: Public name -> the module that defines it.
+_EXPORTS = {
+    # models and state
+    "load_robot": "robot_sim.io.robot_file",
+    "available_robots": "robot_sim.io.robot_file",
+    "RobotParams": "robot_sim.model.params",
+    "RobotDefinitionError": "robot_sim.model.params",
+    "RobotState": "robot_sim.model.state",
+    "JointState": "robot_sim.model.state",
+    # kinematics
+    "Kinematics": "robot_sim.kinematics",
+    "forward_kinematics": "robot_sim.kinematics",
+    "jacobian": "robot_sim.kinematics",
+    "manipulability": "robot_sim.kinematics",
+    "solve_ik": "robot_sim.kinematics",
+    "IKResult": "robot_sim.kinematics",
+    "random_configurations": "robot_sim.kinematics",
+    # dynamics
+    "inverse_dynamics": "robot_sim.dynamics",
+    "mass_matrix": "robot_sim.dynamics",
+    "gravity_torque": "robot_sim.dynamics",
+    "coriolis_matrix": "robot_sim.dynamics",
+    "bias_torque": "robot_sim.dynamics",
+    "forward_dynamics": "robot_sim.dynamics",
+    "energy": "robot_sim.dynamics",
+    # simulation and control
+    "Simulation": "robot_sim.control.simulation",
+    "LimitEvent": "robot_sim.control.simulation",
+    "make_controller": "robot_sim.control.controllers",
+    # conversion and files
+    "to_standard": "robot_sim.model.convert",
+    "to_modified": "robot_sim.model.convert",
+    "to_urdf": "robot_sim.io.urdf_out",
+    "load_urdf": "robot_sim.io.urdf_in",
+    "to_toml": "robot_sim.io.robot_writer",
+    "save_robot": "robot_sim.io.robot_writer",
+    # planning
+    "Trajectory": "robot_sim.planning.trajectory",
+    "quintic": "robot_sim.planning.profiles",
+    "trapezoidal": "robot_sim.planning.profiles",
+    "via_points": "robot_sim.planning.profiles",
+    "hold": "robot_sim.planning.profiles",
+    "cartesian_line": "robot_sim.planning.cartesian",
+    "cartesian_arc": "robot_sim.planning.cartesian",
+    "CartesianPathError": "robot_sim.planning.cartesian",
+    "scale_to_limits": "robot_sim.planning.scaling",
+    "plan_pick": "robot_sim.planning.pick_task",
+    "load_task": "robot_sim.planning.task_file",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'robot_sim' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -1,0 +1,2 @@
+"""The ``robot-sim`` command line: parses and validates arguments, then calls the packages below.
+"""

@@ -1,0 +1,355 @@
+"""Fixed-step physics simulation of a manipulator: controller → drive limits → dynamics → state.
+
+:class:`Simulation` integrates the joint state of a robot with inertial data at a fixed
+step (1 kHz by default), decoupled from rendering: :meth:`Simulation.advance` takes the
+wall-clock time since the previous call and runs as many whole steps as fit (carrying the
+remainder), so the picture shows the state at the last whole step and the simulated time
+keeps pace with the wall clock while the computation keeps up.
+
+One step of length h, in this order:
+
+1. The desired state: from ``reference(t)`` when given, else the desired state of the
+   :class:`~robot_state.RobotState` (what the sliders, the IK ghost or the demo set).
+2. The controller's effort, held constant over the step (a digital controller at the step
+   rate), saturated at the drive's effort limit; joints that saturate are reported in
+   :attr:`Simulation.saturated`.  ``JointState.u`` holds the applied effort.
+3. Forward dynamics (``dynamics.forward_dynamics``) with the optional pull force at the tool (a spring toward a point,
+   see :meth:`Simulation.set_pull`), integrated by semi-implicit (symplectic) Euler —
+   ``qd += h·qdd(q, qd); q += h·qd`` — or classical RK4.
+4. Velocity limits: the drive brakes a joint at its velocity limit (``qd`` clipped).
+5. Joint limits as hard stops: a joint that crosses a limit stops on it, its velocity
+   into the limit is zeroed (an inelastic stop) and a :class:`LimitEvent` is recorded
+   when it arrives there.
+
+A step whose state or effort is not finite (or whose mass matrix cannot be solved)
+does not happen: the simulation keeps the last finite state, stops, and
+:attr:`Simulation.stopped` says why.
+
+Units: q in rad (revolute) and m (prismatic), qd and qdd their rates, efforts in N·m and
+N, time in s, forces in N in the world frame.  This module imports neither OpenGL nor Qt.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim import dynamics
+from robot_sim.control.controllers import Controller, Passive
+from robot_sim.kinematics import Kinematics
+from robot_sim.model.params import RobotParams
+from robot_sim.model.state import RobotState
+
+FloatArray = NDArray[np.float64]
+#: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,), at simulated time t [s].
+Reference = Callable[[float], tuple[FloatArray, FloatArray, FloatArray]]
+
+DEFAULT_DT = 1e-3
+INTEGRATORS = ("rk4", "euler")
+#: At most this much simulated time per :meth:`Simulation.advance` call [s]: when the
+#: computation falls behind the wall clock, the simulation slows down (real-time factor
+#: below 1) instead of trying to catch up with ever longer bursts.
+DEFAULT_MAX_LAG = 0.1
+#: Wall-clock span over which the real-time factor is averaged [s].
+RTF_WINDOW = 0.5
+
+
+@dataclass(frozen=True)
+class LimitEvent:
+    """Joint ``joint`` (0-based) reached its ``side`` (``"min"`` or ``"max"``) limit
+    ``q`` [rad or m] at simulated time ``time`` [s]."""
+
+    time: float
+    joint: int
+    side: str
+    q: float
+
+
+class _Diverged(Exception):
+    """A step produced a non-finite or unsolvable state; the message says which."""
+
+
+def _finite(a: FloatArray) -> bool:
+    """True if every entry of the vector is finite (one dot product: a state whose squares
+    overflow is as diverged as one holding inf)."""
+    return math.isfinite(a @ a)
+
+
+class Simulation:
+    """Physics loop for one robot (which needs inertial data, see ``dynamics``).
+
+    ``state`` (a new one at the robot's home if omitted) supplies the initial current
+    state and the desired state, and receives the simulated state after every call of
+    :meth:`step` or :meth:`advance`.  ``controller`` defaults to :class:`control.Passive`.
+    ``dt`` is the fixed step [s]; ``integrator`` ``"rk4"`` or ``"euler"`` (semi-implicit).
+    """
+
+    def __init__(
+        self,
+        robot: RobotParams,
+        state: RobotState | None = None,
+        controller: Controller | None = None,
+        *,
+        dt: float = DEFAULT_DT,
+        integrator: str = "rk4",
+        reference: Reference | None = None,
+        max_lag: float = DEFAULT_MAX_LAG,
+    ) -> None:
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        if not (isinstance(max_lag, (int, float)) and math.isfinite(max_lag) and max_lag >= dt):
+            raise ValueError(f"max_lag must be a finite number of seconds >= dt ({dt}), got {max_lag!r}")
+        if state is not None and state.robot.n_dofs != robot.n_dofs:
+            raise ValueError(f"state must be a RobotState of a robot with {robot.n_dofs} joints, got {state.robot.n_dofs}")
+        dynamics.mass_matrix(robot, robot.q_home)  # fails now, naming the link, without inertials
+        self.robot = robot
+        self.state = state if state is not None else RobotState(robot)
+        self.controller: Controller = controller if controller is not None else Passive(robot)
+        self.dt = float(dt)
+        self.max_lag = float(max_lag)
+        self.integrator = integrator
+        self.reference = reference
+        n = robot.n_dofs
+        drives = robot.drives
+        self.effort_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.effort_limit, dtype=float)
+        self.velocity_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.velocity_limit, dtype=float)
+        self._limit_effort = bool(np.isfinite(self.effort_limit).any())
+        self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
+        self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
+        #: Simulated time [s] and number of steps taken.
+        self.time = 0.0
+        self.steps = 0
+        #: Why the simulation stopped (divergence), or None while it runs.
+        self.stopped: str | None = None
+        #: Limit arrivals not yet taken by :meth:`take_events`.
+        self.events: list[LimitEvent] = []
+        #: Per joint: effort saturated / braked at the velocity limit / resting on a limit,
+        #: in the last step.
+        self.saturated = np.zeros(n, dtype=bool)
+        self.velocity_limited = np.zeros(n, dtype=bool)
+        self.at_limit = np.zeros(n, dtype=bool)
+        #: Applied (saturated) and commanded effort of the last step [N·m or N].
+        self.effort = np.zeros(n)
+        self.effort_command = np.zeros(n)
+        #: Simulated seconds per wall-clock second over the last :data:`RTF_WINDOW` of
+        #: :meth:`advance` calls (NaN until measured).
+        self.real_time_factor = math.nan
+        #: Wall-clock seconds of computation per simulated second over the same window.
+        self.compute_load = math.nan
+        self._pending = 0.0
+        self._rtf_wall = self._rtf_sim = self._rtf_cpu = 0.0
+        self._pull: tuple[FloatArray, float, float] | None = None
+        self._pull_kin: tuple[Kinematics, RobotState] | None = None
+        self.pull_force = np.zeros(3)
+        self.load_state()
+
+    # ------------------------------------------------------------------ configuration
+    @property
+    def integrator(self) -> str:
+        """``"rk4"`` (classical Runge–Kutta) or ``"euler"`` (semi-implicit Euler)."""
+        return self._integrator
+
+    @integrator.setter
+    def integrator(self, name: str) -> None:
+        if name not in INTEGRATORS:
+            raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {name!r}")
+        self._integrator = name
+
+    def load_state(self) -> None:
+        """Take the current q and qd from the RobotState (after it was set from outside,
+        e.g. in kinematic mode), clipped into the joint limits, and resume a stopped run."""
+        self.q = np.clip(self.state.q(), self.robot.q_min, self.robot.q_max)
+        self.qd = self.state.qd().copy()
+        self.qdd = np.zeros(self.robot.n_dofs)
+        self.at_limit = (self.q <= self.robot.q_min) | (self.q >= self.robot.q_max)
+        self._any_at_limit = bool(self.at_limit.any())
+        self.stopped = None
+        self._pending = 0.0
+        self._published = (self.state.q(), self.state.qd())
+
+    def _follow_state(self) -> None:
+        """The RobotState is the one source of truth: when its q or qd were set from outside
+        since this loop last wrote them (``sim.state.set_q(q)``), the next step starts there."""
+        if not (np.array_equal(self.state.q(), self._published[0])
+                and np.array_equal(self.state.qd(), self._published[1])):
+            self.load_state()
+
+    def set_pull(self, point: ArrayLike, stiffness: float, damping: float = 0.0) -> None:
+        """Pull the endeffector toward ``point`` (3,) [m, world] with a spring of
+        ``stiffness`` [N/m] and a damper of ``damping`` [N·s/m] on the tool point's velocity;
+        the force acts at the tool frame origin (a pure force, no moment)."""
+        p = np.asarray(point, dtype=float)
+        if p.shape != (3,) or not np.isfinite(p).all():
+            raise ValueError(f"point must be a finite (3,) position in metres, got {point!r}")
+        for name, value in (("stiffness", stiffness), ("damping", damping)):
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        self._pull = (p, float(stiffness), float(damping))
+
+    def clear_pull(self) -> None:
+        """Release the endeffector (no pull force from the next step on)."""
+        self._pull = None
+        self.pull_force = np.zeros(3)
+
+    def take_events(self) -> list[LimitEvent]:
+        """The limit events since the previous call (oldest first), removing them."""
+        events, self.events = self.events, []
+        return events
+
+    # ------------------------------------------------------------------ running
+    def advance(self, dt_wall: float) -> int:
+        """Run the whole steps that fit in ``dt_wall`` [s] of wall-clock time plus the
+        remainder carried from earlier calls (at most ``max_lag`` of simulated time per
+        call); return the number of steps taken."""
+        if not (math.isfinite(dt_wall) and dt_wall >= 0):
+            raise ValueError(f"dt_wall must be a finite number of seconds >= 0, got {dt_wall!r}")
+        self._pending += dt_wall
+        n_steps = int(self._pending / self.dt + 1e-9)
+        max_steps = int(self.max_lag / self.dt + 1e-9)
+        if n_steps > max_steps:
+            n_steps, self._pending = max_steps, 0.0
+        else:
+            self._pending -= n_steps * self.dt
+        start = _time.perf_counter()
+        taken = self.step(n_steps)
+        self._rtf_cpu += _time.perf_counter() - start
+        self._rtf_wall += dt_wall
+        self._rtf_sim += taken * self.dt
+        if self._rtf_wall >= RTF_WINDOW:
+            self.real_time_factor = self._rtf_sim / self._rtf_wall
+            self.compute_load = self._rtf_cpu / self._rtf_sim if self._rtf_sim > 0 else math.nan
+            self._rtf_wall = self._rtf_sim = self._rtf_cpu = 0.0
+        return taken
+
+    def step(self, n_steps: int = 1) -> int:
+        """Run ``n_steps`` fixed steps (fewer if the simulation stops), write the result to
+        the RobotState and return the number of steps taken."""
+        if n_steps < 0:
+            raise ValueError(f"n_steps must be >= 0, got {n_steps!r}")
+        self._follow_state()
+        if self.stopped is not None or n_steps == 0:
+            return 0
+        desired = None if self.reference is not None else (
+            self.state.q_des(), self.state.qd_des(), self.state.qdd_des()
+        )
+        taken = 0
+        with np.errstate(all="ignore"):
+            for _ in range(n_steps):
+                if self.reference is not None:
+                    desired = self.reference(self.time)
+                try:
+                    self._step(*desired)
+                except (_Diverged, np.linalg.LinAlgError) as exc:
+                    self.stopped = f"simulation stopped at t = {self.time:.3f} s: {exc}; kept the last finite state"
+                    break
+                taken += 1
+        self._publish(desired)
+        return taken
+
+    # ------------------------------------------------------------------ one step
+    def _step(self, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray) -> None:
+        q, qd = self.q, self.qd
+        command = self.controller.torque(q, qd, q_des, qd_des, qdd_des)
+        if not _finite(command):
+            raise _Diverged(f"the {self.controller.mode} controller returned a non-finite effort {command}")
+        saturated = np.abs(command) > self.effort_limit if self._limit_effort else self.saturated
+        tau = np.clip(command, -self.effort_limit, self.effort_limit) if saturated.any() else command
+        f_tool = self._pull_wrench(q, qd)
+        # The first stage's acceleration is known when the controller's model is the
+        # simulated robot and nothing else acts (computed torque: its reference
+        # acceleration, to round-off), which saves one forward dynamics per step.
+        known = None
+        if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
+            known = self.controller.commanded_acceleration()
+        q1, qd1, qdd = self._integrate(q, qd, tau, f_tool, known)
+        velocity_limited = self.velocity_limited
+        if self._limit_velocity:
+            velocity_limited = np.abs(qd1) > self.velocity_limit
+            qd1 = np.clip(qd1, -self.velocity_limit, self.velocity_limit)
+        if self._limit_position:
+            self._hard_stops(q1, qd1)
+        if not (_finite(q1) and _finite(qd1)):
+            raise _Diverged("the joint state became non-finite")
+        self.q, self.qd, self.qdd = q1, qd1, qdd
+        self.effort_command, self.effort = command, tau
+        self.saturated = saturated
+        self.velocity_limited = velocity_limited
+        self.time += self.dt
+        self.steps += 1
+
+    def _accel(self, q: FloatArray, qd: FloatArray, tau: FloatArray, f_tool: FloatArray | None) -> FloatArray:
+        try:
+            qdd = dynamics.forward_dynamics(self.robot, q, qd, tau, f_tool=f_tool)
+        except ValueError:  # refused a stage state that overflowed (finite rates, huge values)
+            if _finite(q) and _finite(qd):
+                raise
+            raise _Diverged("the joint state became non-finite") from None
+        if not _finite(qdd):
+            raise _Diverged("the joint acceleration became non-finite")
+        return qdd
+
+    def _integrate(
+        self, q: FloatArray, qd: FloatArray, tau: FloatArray, f_tool: FloatArray | None, a1: FloatArray | None = None
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(q, qd) after one step and the acceleration at its start (``a1`` when known)."""
+        h = self.dt
+        if a1 is None or not _finite(a1):
+            a1 = self._accel(q, qd, tau, f_tool)
+        if self._integrator == "euler":
+            qd1 = qd + h * a1
+            return q + h * qd1, qd1, a1
+        v2 = qd + 0.5 * h * a1
+        a2 = self._accel(q + 0.5 * h * qd, v2, tau, f_tool)
+        v3 = qd + 0.5 * h * a2
+        a3 = self._accel(q + 0.5 * h * v2, v3, tau, f_tool)
+        v4 = qd + h * a3
+        a4 = self._accel(q + h * v3, v4, tau, f_tool)
+        q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
+        qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
+        return q1, qd1, a1
+
+    def _hard_stops(self, q: FloatArray, qd: FloatArray) -> None:
+        """Clip q (in place) into the limits, zero the velocity into a limit, record arrivals."""
+        lo, hi = self.robot.q_min, self.robot.q_max
+        below, above = q <= lo, q >= hi
+        if not (below.any() or above.any() or self._any_at_limit):
+            return
+        np.clip(q, lo, hi, out=q)
+        qd[below & (qd < 0)] = 0.0
+        qd[above & (qd > 0)] = 0.0
+        at_limit = below | above
+        for j in np.flatnonzero(at_limit & ~self.at_limit):
+            side = "min" if below[j] else "max"
+            self.events.append(LimitEvent(self.time + self.dt, int(j), side, float(q[j])))
+        self.at_limit = at_limit
+        self._any_at_limit = bool(at_limit.any())
+
+    def _pull_wrench(self, q: FloatArray, qd: FloatArray) -> FloatArray | None:
+        if self._pull is None:
+            return None
+        point, stiffness, damping = self._pull
+        if self._pull_kin is None:
+            self._pull_kin = (Kinematics(self.robot), RobotState(self.robot))
+        kin, at_q = self._pull_kin
+        at_q.set_q(q)
+        kin.update(at_q.joint_state)
+        force = stiffness * (point - kin.endeff_tf.t()) - damping * (kin.jacobian[:3] @ qd)
+        self.pull_force = force
+        return np.concatenate([force, np.zeros(3)])
+
+    def _publish(self, desired: tuple[FloatArray, FloatArray, FloatArray] | None) -> None:
+        """Write the simulated (and, with a reference, the desired) state to the RobotState."""
+        state = self.state
+        state.set_q(self.q)
+        state.set_qd(self.qd)
+        state.set_qdd(self.qdd)
+        state.joint_state.set_u(self.effort)
+        self._published = (state.q(), state.qd())
+        if self.reference is not None and desired is not None:
+            state.set_q_des(desired[0])
+            state.set_qd_des(desired[1])
+            state.set_qdd_des(desired[2])

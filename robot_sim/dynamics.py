@@ -1,0 +1,849 @@
+"""Rigid-body dynamics of DH serial chains, for one configuration or a batch.
+
+Every function takes a :class:`~robot_defs.RobotParams` with inertial data and joint
+vectors of shape (n,) or (N, n) (batched without a per-configuration Python loop: the
+kernels walk the chain joint by joint on arrays of configurations).
+
+Conventions
+-----------
+* Equation of motion: ``τ = M(q) q̈ + C(q, q̇) q̇ + g(q) + τ_f(q̇) − J(q)ᵀ f_tool``.
+  τ is the joint torque [N·m] or force [N] the drives apply; M includes the reflected
+  motor inertia G²·Jm on its diagonal; τ_f = G²·B·q̇ + |G|·Tc± (Tc+ when q̇ > 0, Tc− when
+  q̇ < 0, none at rest) is what the drive spends on friction, i.e. the friction torque on
+  the joint is −τ_f (Robotics Toolbox convention).
+* Gravity: ``gravity`` (default (0, 0, −9.81) m/s²) in the world; frame 0 stands in the
+  world at ``robot.base_tf``.
+* ``f_tool`` (6,) or (N, 6): wrench [force (N); moment (N·m)] that the environment applies
+  to the endeffector at the tool frame's origin, world frame (so a force the arm pushes
+  against has the opposite sign).
+* C is the factorisation with Ṁ − 2C skew-symmetric (body-wise:
+  Σ m J_vᵀ J̇_v + J_ωᵀ I J̇_ω + J_ωᵀ [ω]ₓ I J_ω), linear in q̇.
+* Both DH conventions: standard (joint i turns about z_{i−1}) and modified (about z_i);
+  link inertials are in frame i of the robot's convention.
+
+Algorithms: recursive Newton–Euler for inverse dynamics, gravity and bias; composite rigid
+bodies for M; forward dynamics by M solve (a batched Cholesky, see README for the
+measurement behind the choice).  Internally each link's quantities live in its own frame,
+so mass, first moment and inertia are constants; vectors are triples of arrays, and terms
+with structurally zero factors (twists of 0/±90°, zero offsets, a fixed base) are skipped.
+
+This module imports neither Qt nor OpenGL.
+"""
+from __future__ import annotations
+
+import math
+import weakref
+from typing import Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.kinematics import cos_sin_half, forward_kinematics
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+
+FloatArray = NDArray[np.float64]
+Scalar = Union[float, FloatArray]  # a Python float (constant, possibly exactly 0) or an array
+Vec = tuple  # three Scalars
+
+GRAVITY = (0.0, 0.0, -9.81)
+#: Configurations per chunk of the batched kernels (work arrays stay in cache).
+CHUNK = 2048
+_SNAP = 1e-12  # cos/sin of constant angles closer than this to 0 or ±1 are made exact
+
+
+# ------------------------------------------------------------------ scalar algebra
+# Operands are Python floats (constants; 0.0 means "structurally zero") or arrays.
+
+
+def _zero(x: Scalar) -> bool:
+    return isinstance(x, float) and x == 0.0
+
+
+def _add(a: Scalar, b: Scalar) -> Scalar:
+    if _zero(a):
+        return b
+    if _zero(b):
+        return a
+    return a + b
+
+
+def _sub(a: Scalar, b: Scalar) -> Scalar:
+    if _zero(b):
+        return a
+    if _zero(a):
+        return -b
+    return a - b
+
+
+def _mul(a: Scalar, b: Scalar) -> Scalar:
+    if _zero(a) or _zero(b):
+        return 0.0
+    if isinstance(a, float) and a in (1.0, -1.0):
+        return b if a == 1.0 else -b
+    if isinstance(b, float) and b in (1.0, -1.0):
+        return a if b == 1.0 else -a
+    return a * b
+
+
+def _sum(*terms: Scalar) -> Scalar:
+    out: Scalar = 0.0
+    for t in terms:
+        out = _add(out, t)
+    return out
+
+
+def _vadd(a: Vec, b: Vec) -> Vec:
+    return (_add(a[0], b[0]), _add(a[1], b[1]), _add(a[2], b[2]))
+
+
+def _vsub(a: Vec, b: Vec) -> Vec:
+    return (_sub(a[0], b[0]), _sub(a[1], b[1]), _sub(a[2], b[2]))
+
+
+def _scale(s: Scalar, v: Vec) -> Vec:
+    return (_mul(s, v[0]), _mul(s, v[1]), _mul(s, v[2]))
+
+
+def _dot(a: Vec, b: Vec) -> Scalar:
+    return _sum(_mul(a[0], b[0]), _mul(a[1], b[1]), _mul(a[2], b[2]))
+
+
+def _cross(a: Vec, b: Vec) -> Vec:
+    return (
+        _sub(_mul(a[1], b[2]), _mul(a[2], b[1])),
+        _sub(_mul(a[2], b[0]), _mul(a[0], b[2])),
+        _sub(_mul(a[0], b[1]), _mul(a[1], b[0])),
+    )
+
+
+def _matvec(m: tuple, v: Vec) -> Vec:
+    return tuple(_sum(_mul(m[r][0], v[0]), _mul(m[r][1], v[1]), _mul(m[r][2], v[2])) for r in range(3))
+
+
+def _sym_matvec(s: tuple, v: Vec) -> Vec:
+    """Symmetric matrix (xx, yy, zz, xy, yz, xz) times v."""
+    xx, yy, zz, xy, yz, xz = s
+    return (
+        _sum(_mul(xx, v[0]), _mul(xy, v[1]), _mul(xz, v[2])),
+        _sum(_mul(xy, v[0]), _mul(yy, v[1]), _mul(yz, v[2])),
+        _sum(_mul(xz, v[0]), _mul(yz, v[1]), _mul(zz, v[2])),
+    )
+
+
+def _rot_z(v: Vec, c: Scalar, s: Scalar) -> Vec:
+    """Rz(θ) v."""
+    return (_sub(_mul(c, v[0]), _mul(s, v[1])), _add(_mul(s, v[0]), _mul(c, v[1])), v[2])
+
+
+def _rot_z_t(v: Vec, c: Scalar, s: Scalar) -> Vec:
+    """Rz(θ)ᵀ v."""
+    return (_add(_mul(c, v[0]), _mul(s, v[1])), _sub(_mul(c, v[1]), _mul(s, v[0])), v[2])
+
+
+def _rot_x(v: Vec, c: float, s: float) -> Vec:
+    """Rx(α) v."""
+    return (v[0], _sub(_mul(c, v[1]), _mul(s, v[2])), _add(_mul(s, v[1]), _mul(c, v[2])))
+
+
+def _rot_x_t(v: Vec, c: float, s: float) -> Vec:
+    """Rx(α)ᵀ v."""
+    return (v[0], _add(_mul(c, v[1]), _mul(s, v[2])), _sub(_mul(c, v[2]), _mul(s, v[1])))
+
+
+def _rot_sym_z(m: tuple, c: Scalar, s: Scalar) -> tuple:
+    """Rz(θ) S Rz(θ)ᵀ of a symmetric S = (xx, yy, zz, xy, yz, xz)."""
+    xx, yy, zz, xy, yz, xz = m
+    c2, s2 = _sub(_mul(c, c), _mul(s, s)), _mul(2.0, _mul(c, s))
+    mean, half = _mul(0.5, _add(xx, yy)), _mul(0.5, _sub(xx, yy))
+    t = _sub(_mul(half, c2), _mul(xy, s2))
+    return (
+        _add(mean, t),
+        _sub(mean, t),
+        zz,
+        _add(_mul(half, s2), _mul(xy, c2)),
+        _add(_mul(s, xz), _mul(c, yz)),
+        _sub(_mul(c, xz), _mul(s, yz)),
+    )
+
+
+def _rot_sym_x(m: tuple, c: float, s: float) -> tuple:
+    """Rx(α) S Rx(α)ᵀ of a symmetric S = (xx, yy, zz, xy, yz, xz)."""
+    xx, yy, zz, xy, yz, xz = m
+    c2, s2 = c * c - s * s, 2.0 * c * s
+    mean, half = _mul(0.5, _add(yy, zz)), _mul(0.5, _sub(yy, zz))
+    t = _sub(_mul(half, c2), _mul(yz, s2))
+    return (
+        xx,
+        _add(mean, t),
+        _sub(mean, t),
+        _sub(_mul(c, xy), _mul(s, xz)),
+        _add(_mul(half, s2), _mul(yz, c2)),
+        _add(_mul(s, xy), _mul(c, xz)),
+    )
+
+
+def _snap(x: float) -> float:
+    for exact in (0.0, 1.0, -1.0):
+        if abs(x - exact) < _SNAP:
+            return exact
+    return float(x)
+
+
+# ------------------------------------------------------------------ per-robot model
+
+
+class _DynModel:
+    """Robot constants for the kernels, in each link's own frame (built once per robot)."""
+
+    def __init__(self, robot: RobotParams) -> None:
+        li = robot.inertials
+        n = robot.n_dofs
+        self.n = n
+        self.modified = robot.is_modified
+        self.revolute = [bool(t == JTYPE_REVOLUTE) for t in robot.jtype]
+        self.rev_index = np.flatnonzero(np.asarray(self.revolute))
+        self.th = robot.dh_th.copy()
+        self.ca = [_snap(math.cos(al)) for al in robot.dh_alpha]
+        self.sa = [_snap(math.sin(al)) for al in robot.dh_alpha]
+        self.ct = [_snap(math.cos(t)) for t in robot.dh_th]
+        self.st = [_snap(math.sin(t)) for t in robot.dh_th]
+        self.a = [float(v) for v in robot.dh_a]
+        self.d = [float(v) for v in robot.dh_d]
+        self.mass = [float(m) for m in li.mass]
+        self.h = [tuple(float(m) * float(c) for c in com) for m, com in zip(li.mass, li.com)]
+        self.inertia_o = []  # inertia about the frame origin: I_c + m(|c|² 1 − c cᵀ)
+        for m, com, ic in zip(li.mass, li.com, li.inertia):
+            io = ic + m * (com @ com * np.eye(3) - np.outer(com, com))
+            self.inertia_o.append(tuple(float(io[i, j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))))
+        dr = robot.drives
+        zeros = np.zeros(n)
+        self.reflected = zeros if dr is None else dr.reflected_inertia
+        self.viscous = zeros if dr is None else dr.gear_ratio**2 * dr.viscous
+        self.coulomb_pos = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 0]
+        self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
+        self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
+        self.kernels: dict = {}  # compiled straight-line kernels, see _compile
+        self.base_rotation = robot.base_tf.R().copy()
+        self._gravity: tuple = ((0.0, 0.0, -9.81), None)  # last (world gravity, in frame 0)
+
+    def gravity_in_frame0(self, robot: RobotParams, gravity: ArrayLike) -> tuple[float, float, float]:
+        """World gravity [m/s²] in frame 0 (the last one is kept: it rarely changes)."""
+        if not (isinstance(gravity, tuple) and gravity == self._gravity[0] and self._gravity[1] is not None):
+            g0 = tuple(float(v) for v in self.base_rotation.T @ _check_gravity(gravity))
+            if not isinstance(gravity, tuple):  # an array may change in place: not kept
+                return g0
+            self._gravity = (gravity, g0)
+        return self._gravity[1]
+
+    # -- geometry of joint j at joint values (arrays of one chunk) ----------------------
+    def offset(self, j: int, qj: Scalar) -> Vec:
+        """Standard DH: origin of frame j relative to frame j−1's, in frame j.
+        Modified DH: the same vector in frame j−1."""
+        d = self.d[j] if self.revolute[j] else _add(self.d[j], qj)
+        ca, sa = self.ca[j], self.sa[j]
+        if self.modified:
+            return (self.a[j], _mul(-sa, d), _mul(ca, d))
+        return (self.a[j], _mul(sa, d), _mul(ca, d))
+
+    def to_child(self, v: Vec, j: int, c: Scalar, s: Scalar) -> Vec:
+        """Vector in frame j−1 expressed in frame j (Rᵀ v)."""
+        if self.modified:
+            return _rot_z_t(_rot_x_t(v, self.ca[j], self.sa[j]), c, s)
+        return _rot_x_t(_rot_z_t(v, c, s), self.ca[j], self.sa[j])
+
+    def to_parent(self, v: Vec, j: int, c: Scalar, s: Scalar) -> Vec:
+        """Vector in frame j expressed in frame j−1 (R v)."""
+        if self.modified:
+            return _rot_x(_rot_z(v, c, s), self.ca[j], self.sa[j])
+        return _rot_z(_rot_x(v, self.ca[j], self.sa[j]), c, s)
+
+    def wrench_to_parent(self, j: int, f: Vec, n: Vec, c: Scalar, s: Scalar, p: Vec) -> tuple[Vec, Vec]:
+        """Wrench (force f, moment n about frame j's origin, frame j) as force and moment
+        about frame j−1's origin in frame j−1 (``p`` = :meth:`offset`)."""
+        if self.modified:
+            f_par = self.to_parent(f, j, c, s)
+            return f_par, _vadd(self.to_parent(n, j, c, s), _cross(p, f_par))
+        return self.to_parent(f, j, c, s), self.to_parent(_vadd(n, _cross(p, f)), j, c, s)
+
+    def subspace(self, j: int) -> tuple[Vec, Vec]:
+        """Joint j's motion [v of frame j's origin; ω] per unit rate, in frame j."""
+        if self.modified:
+            axis = (0.0, 0.0, 1.0)
+            return ((0.0, 0.0, 0.0), axis) if self.revolute[j] else (axis, (0.0, 0.0, 0.0))
+        axis = (0.0, self.sa[j], self.ca[j])
+        if self.revolute[j]:  # v = axis × (o_j − o_{j−1})
+            return _cross(axis, (self.a[j], _mul(self.sa[j], self.d[j]), _mul(self.ca[j], self.d[j]))), axis
+        return axis, (0.0, 0.0, 0.0)
+
+    def cos_sin(self, QT: FloatArray) -> tuple[list[Scalar], list[Scalar]]:
+        """cos θ_j and sin θ_j per joint: arrays for revolute joints, floats otherwise."""
+        cos: list[Scalar] = list(self.ct)
+        sin: list[Scalar] = list(self.st)
+        if len(self.rev_index):
+            c_all, s_all = cos_sin_half(QT[self.rev_index], 0.5 * self.th[self.rev_index, None])
+            for k, j in enumerate(self.rev_index):
+                cos[j], sin[j] = c_all[k], s_all[k]
+        return cos, sin
+
+
+_MODELS: "weakref.WeakKeyDictionary[RobotParams, _DynModel]" = weakref.WeakKeyDictionary()
+
+
+def _model(robot: RobotParams) -> _DynModel:
+    model = _MODELS.get(robot)
+    if model is None:
+        if robot.inertials is None:
+            raise ValueError(
+                f"{robot.name}: joints[0] has no [joints.inertial] (the robot has no inertial data); "
+                "add [joints.inertial] tables to its file, or use inertials.estimate_inertials(robot)"
+            )
+        model = _MODELS[robot] = _DynModel(robot)
+    return model
+
+
+# ------------------------------------------------------------------ kernels
+
+
+def _w_matrix(w: Vec, wd: Vec) -> tuple:
+    """W = [ω̇]ₓ + [ω]ₓ²: the acceleration of a body-fixed point r relative to the origin is W r."""
+    xx, yy, zz = _mul(w[0], w[0]), _mul(w[1], w[1]), _mul(w[2], w[2])
+    xy, yz, xz = _mul(w[0], w[1]), _mul(w[1], w[2]), _mul(w[0], w[2])
+    return (
+        (_mul(-1.0, _add(yy, zz)), _sub(xy, wd[2]), _add(xz, wd[1])),
+        (_add(xy, wd[2]), _mul(-1.0, _add(xx, zz)), _sub(yz, wd[0])),
+        (_sub(xz, wd[1]), _add(yz, wd[0]), _mul(-1.0, _add(xx, yy))),
+    )
+
+
+def _rnea_terms(
+    model: _DynModel,
+    cos: list[Scalar],
+    sin: list[Scalar],
+    q: list[Scalar],
+    qd: list[Scalar] | None,
+    qdd: list[Scalar] | None,
+    g0: tuple[float, float, float],
+    f_ext: tuple[Vec, Vec] | None,
+) -> list[Scalar]:
+    """Joint torques of the rigid bodies (no drive terms), one entry per joint.  Per joint:
+    cos θ, sin θ and, for prismatic joints, q; rates None when zero.  ``g0`` gravity in
+    frame 0; ``f_ext`` the external wrench on the last link (force, moment about its
+    origin) in its frame."""
+    n = model.n
+    w: Vec = (0.0, 0.0, 0.0)
+    wd: Vec = (0.0, 0.0, 0.0)
+    vd: Vec = (-g0[0], -g0[1], -g0[2])
+    W_par = None
+    offsets, forces, moments = [], [], []
+    for j in range(n):
+        c, s, rev = cos[j], sin[j], model.revolute[j]
+        qdj: Scalar = 0.0 if qd is None else qd[j]
+        qddj: Scalar = 0.0 if qdd is None else qdd[j]
+        p = model.offset(j, 0.0 if rev else q[j])
+        offsets.append(p)
+        if model.modified:
+            if W_par is not None:
+                vd = _vadd(vd, _matvec(W_par, p))
+            w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
+            if rev:
+                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
+                w = (w[0], w[1], _add(w[2], qdj))
+            else:
+                two_qd = _mul(2.0, qdj)
+                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
+            W = _w_matrix(w, wd)
+        else:
+            if rev:
+                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
+                w = (w[0], w[1], _add(w[2], qdj))
+            else:
+                two_qd = _mul(2.0, qdj)
+                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
+            w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
+            W = _w_matrix(w, wd)
+            vd = _vadd(vd, _matvec(W, p))
+        W_par = W
+        h, io, m = model.h[j], model.inertia_o[j], model.mass[j]
+        forces.append(_vadd(_scale(m, vd), _matvec(W, h)))
+        moments.append(_vadd(_vadd(_sym_matvec(io, wd), _cross(w, _sym_matvec(io, w))), _cross(h, vd)))
+    if f_ext is not None:
+        forces[-1] = _vsub(forces[-1], f_ext[0])
+        moments[-1] = _vsub(moments[-1], f_ext[1])
+    tau: list[Scalar] = [0.0] * n
+    for j in range(n - 1, -1, -1):
+        f, nm, p = forces[j], moments[j], offsets[j]
+        if model.modified:
+            tau[j] = nm[2] if model.revolute[j] else f[2]
+        else:
+            axis = (0.0, model.sa[j], model.ca[j])
+            tau[j] = _dot(axis, _vadd(nm, _cross(p, f))) if model.revolute[j] else _dot(axis, f)
+        if j > 0:
+            F, N = model.wrench_to_parent(j, f, nm, cos[j], sin[j], p)
+            forces[j - 1] = _vadd(forces[j - 1], F)
+            moments[j - 1] = _vadd(moments[j - 1], N)
+    return tau
+
+
+def _crba_terms(model: _DynModel, cos: list[Scalar], sin: list[Scalar], q: list[Scalar]) -> list[Scalar]:
+    """Mass matrix of the rigid bodies plus reflected motor inertia, row-major n·n entries."""
+    n = model.n
+    offsets = [model.offset(j, 0.0 if model.revolute[j] else q[j]) for j in range(n)]
+    out: list[Scalar] = [0.0] * (n * n)
+    # composite inertia of the subtree of j about frame j's origin, in frame j: m, h, I
+    cm: Scalar = 0.0
+    ch: Vec = (0.0, 0.0, 0.0)
+    ci: tuple = (0.0,) * 6
+    for j in range(n - 1, -1, -1):
+        cm = _add(cm, model.mass[j])
+        ch = _vadd(ch, model.h[j])
+        ci = tuple(_add(x, y) for x, y in zip(ci, model.inertia_o[j]))
+        v, w = model.subspace(j)
+        f = _vsub(_scale(cm, v), _cross(ch, w))
+        nm = _vadd(_sym_matvec(ci, w), _cross(ch, v))
+        out[j * n + j] = _add(_add(_dot(v, f), _dot(w, nm)), float(model.reflected[j]))
+        for k in range(j, 0, -1):  # carry the force of joint j's unit acceleration to the base
+            f, nm = model.wrench_to_parent(k, f, nm, cos[k], sin[k], offsets[k])
+            vk, wk = model.subspace(k - 1)
+            out[(k - 1) * n + j] = out[j * n + k - 1] = _add(_dot(vk, f), _dot(wk, nm))
+        if j > 0:
+            cm, ch, ci = _composite_to_parent(model, j, cm, ch, ci, cos[j], sin[j], offsets[j])
+    return out
+
+
+# ------------------------------------------------------------------ compiled kernels
+# The functions above are run once per robot (and variant) on symbols instead of arrays;
+# the operations they perform on non-constant values are recorded as straight-line Python
+# source and compiled.  The compiled kernel does exactly those NumPy operations on arrays
+# (a batch) or the same float operations on Python floats (one configuration), without
+# the bookkeeping of the readable code above (its cost is per call, not per configuration).
+
+
+class _Sym:
+    """A named non-constant value while tracing; arithmetic records a line of source."""
+
+    __slots__ = ("name", "lines")
+
+    def __init__(self, name: str, lines: list[str]) -> None:
+        self.name, self.lines = name, lines
+
+    def _emit(self, expr: str) -> "_Sym":
+        name = f"v{len(self.lines)}"
+        self.lines.append(f"{name} = {expr}")
+        return _Sym(name, self.lines)
+
+    @staticmethod
+    def _term(x: object) -> str:
+        return x.name if isinstance(x, _Sym) else repr(float(x))
+
+    def __add__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} + {self._term(other)}")
+
+    def __radd__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} + {self.name}")
+
+    def __sub__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} - {self._term(other)}")
+
+    def __rsub__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} - {self.name}")
+
+    def __mul__(self, other: object) -> "_Sym":
+        return self._emit(f"{self.name} * {self._term(other)}")
+
+    def __rmul__(self, other: object) -> "_Sym":
+        return self._emit(f"{self._term(other)} * {self.name}")
+
+    def __neg__(self) -> "_Sym":
+        return self._emit(f"-{self.name}")
+
+
+def _compile(model: _DynModel, kind: str, g0: tuple[float, float, float], rates: tuple[bool, bool], ext: bool):
+    """kernel(c, s, q, qd, qdd, e) -> tuple of outputs, for ``kind`` "rnea" or "crba"."""
+    lines: list[str] = []
+    n = model.n
+    cos = [_Sym(f"c{j}", lines) if model.revolute[j] else model.ct[j] for j in range(n)]
+    sin = [_Sym(f"s{j}", lines) if model.revolute[j] else model.st[j] for j in range(n)]
+    q = [0.0 if model.revolute[j] else _Sym(f"q{j}", lines) for j in range(n)]
+    head = [f"c{j} = c[{j}]; s{j} = s[{j}]" if model.revolute[j] else f"q{j} = q[{j}]" for j in range(n)]
+    if kind == "crba":
+        outputs = _crba_terms(model, cos, sin, q)
+    else:
+        qd = [_Sym(f"qd{j}", lines) for j in range(n)] if rates[0] else None
+        qdd = [_Sym(f"qdd{j}", lines) for j in range(n)] if rates[1] else None
+        head += [f"qd{j} = qd[{j}]" for j in range(n)] if rates[0] else []
+        head += [f"qdd{j} = qdd[{j}]" for j in range(n)] if rates[1] else []
+        wrench = None
+        if ext:
+            e = [_Sym(f"e{k}", lines) for k in range(6)]
+            head += [f"e{k} = e[{k}]" for k in range(6)]
+            wrench = (tuple(e[:3]), tuple(e[3:]))
+        outputs = _rnea_terms(model, cos, sin, q, qd, qdd, g0, wrench)
+    body = head + lines + ["return (" + ", ".join(_Sym._term(o) for o in outputs) + ",)"]
+    source = "def kernel(c, s, q, qd, qdd, e):\n" + "".join(f"    {line}\n" for line in body)
+    namespace: dict = {}
+    exec(compile(source, f"<dynamics kernel {kind}>", "exec"), namespace)  # our own generated source
+    return namespace["kernel"]
+
+
+def _kernel(model: _DynModel, kind: str, g0: tuple = (0.0, 0.0, 0.0), rates: tuple = (False, False), ext: bool = False):
+    key = (kind, g0, rates, ext)
+    kernel = model.kernels.get(key)
+    if kernel is None:
+        kernel = model.kernels[key] = _compile(model, kind, g0, rates, ext)
+    return kernel
+
+
+def _shift(m: Scalar, h: Vec, inertia: tuple, r: Vec) -> tuple[Vec, tuple]:
+    """First moment and inertia of a body about a point moved by −r (r = old − new point)."""
+    h_new = _vadd(h, _scale(m, r))
+    hr = _dot(h, r)
+    rr = _dot(r, r)
+    diag = _add(_mul(2.0, hr), _mul(m, rr))
+    # I + 2(h·r)1 − (r hᵀ + h rᵀ) + m(|r|² 1 − r rᵀ)
+    pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
+    out = []
+    for k, (a, b) in enumerate(pairs):
+        cross_terms = _add(_add(_mul(r[a], h[b]), _mul(h[a], r[b])), _mul(m, _mul(r[a], r[b])))
+        value = _sub(inertia[k], cross_terms)
+        out.append(_add(value, diag) if a == b else value)
+    return h_new, tuple(out)
+
+
+def _composite_to_parent(
+    model: _DynModel, j: int, m: Scalar, h: Vec, inertia: tuple, c: Scalar, s: Scalar, p: Vec
+) -> tuple[Scalar, Vec, tuple]:
+    """Composite (m, h, I) about frame j's origin in frame j → about frame j−1's, in frame j−1."""
+    ca, sa = model.ca[j], model.sa[j]
+    if model.modified:
+        h = _rot_x(_rot_z(h, c, s), ca, sa)
+        inertia = _rot_sym_x(_rot_sym_z(inertia, c, s), ca, sa)
+        h, inertia = _shift(m, h, inertia, p)
+        return m, h, inertia
+    h, inertia = _shift(m, h, inertia, p)
+    h = _rot_z(_rot_x(h, ca, sa), c, s)
+    inertia = _rot_sym_z(_rot_sym_x(inertia, ca, sa), c, s)
+    return m, h, inertia
+
+
+def _solve_spd(A: FloatArray, b: FloatArray) -> FloatArray:
+    """x (n, M) with A x = b for symmetric positive definite A (n, n, M): Cholesky
+    factorisation and two triangular solves, looping over joints only."""
+    n = A.shape[0]
+    L = [[None] * n for _ in range(n)]
+    for j in range(n):
+        diag = A[j, j].copy()
+        for k in range(j):
+            diag -= L[j][k] * L[j][k]
+        L[j][j] = np.sqrt(diag)
+        inv = 1.0 / L[j][j]
+        for i in range(j + 1, n):
+            acc = A[i, j].copy()
+            for k in range(j):
+                acc -= L[i][k] * L[j][k]
+            acc *= inv
+            L[i][j] = acc
+    y = [None] * n
+    for i in range(n):
+        acc = b[i].copy()
+        for k in range(i):
+            acc -= L[i][k] * y[k]
+        y[i] = acc / L[i][i]
+    x = np.empty_like(b)
+    for i in range(n - 1, -1, -1):
+        acc = y[i].copy()
+        for k in range(i + 1, n):
+            acc -= L[k][i] * x[k]
+        x[i] = acc / L[i][i]
+    return x
+
+
+# ------------------------------------------------------------------ arguments
+
+
+def _joint_array(robot: RobotParams, value: ArrayLike, name: str, like: FloatArray | None = None) -> FloatArray:
+    n = robot.n_dofs
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of shape ({n},) or (N, {n}), got {type(value).__name__}") from None
+    if like is None:
+        if arr.ndim not in (1, 2) or arr.shape[-1] != n:
+            raise ValueError(f"{name} must have shape ({n},) or (N, {n}), got shape {arr.shape}")
+    elif arr.shape != like.shape:
+        raise ValueError(f"{name} must have the shape of q, {like.shape}, got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} must be finite, got NaN or inf in {name}")
+    return arr
+
+
+def _check_gravity(gravity: ArrayLike) -> FloatArray:
+    g = np.asarray(gravity, dtype=float)
+    if g.shape != (3,) or not np.isfinite(g).all():
+        raise ValueError(f"gravity must be a finite (3,) vector in m/s^2, got {gravity!r}")
+    return g
+
+
+def _tool_wrench_in_last_frame(robot: RobotParams, Q: FloatArray, f_tool: ArrayLike) -> FloatArray:
+    """(N, 6) [force; moment about frame n's origin] in frame n from the world wrench at the tool origin."""
+    f = np.asarray(f_tool, dtype=float)
+    if f.shape not in ((6,), (Q.shape[0], 6)) or not np.isfinite(f).all():
+        raise ValueError(
+            f"f_tool must be a finite (6,) wrench [force; moment] or one per configuration ({Q.shape[0]}, 6), "
+            f"got shape {f.shape}"
+        )
+    f = np.broadcast_to(f, (Q.shape[0], 6))
+    frames = forward_kinematics(robot, Q, all_frames=True)
+    n = robot.n_dofs
+    R, origin, tool = frames[:, n, :3, :3], frames[:, n, :3, 3], frames[:, n + 1, :3, 3]
+    moment = f[:, 3:] + np.cross(tool - origin, f[:, :3])
+    out = np.empty((Q.shape[0], 6))
+    out[:, :3] = np.einsum("nji,nj->ni", R, f[:, :3])
+    out[:, 3:] = np.einsum("nji,nj->ni", R, moment)
+    return out
+
+
+def _drive_torque(model: _DynModel, QDT: FloatArray | None, QDDT: FloatArray | None) -> FloatArray | None:
+    """G²·Jm·q̈ + G²·B·q̇ + |G|·Tc± (by the sign of q̇, 0 at rest), (n, N); None if nothing."""
+    out = None
+    if QDDT is not None and np.any(model.reflected):
+        out = QDDT * model.reflected[:, None]
+    if QDT is not None and model.has_friction:
+        coulomb = np.where(QDT > 0.0, model.coulomb_pos[:, None], np.where(QDT < 0.0, model.coulomb_neg[:, None], 0.0))
+        friction = QDT * model.viscous[:, None] + coulomb
+        out = friction if out is None else out + friction
+    return out
+
+
+def _rows(X: FloatArray | None) -> FloatArray | None:
+    """(N, n) → (n, N) contiguous: each joint's values of all configurations in one row."""
+    return None if X is None else np.ascontiguousarray(X.T)
+
+
+def _joint_inputs(model: _DynModel, QT: FloatArray) -> tuple[list[Scalar], list[Scalar], FloatArray | list[float]]:
+    """cos θ, sin θ and q per joint for a chunk (n, M): arrays, or Python floats when M = 1
+    (one configuration: float arithmetic costs far less than NumPy calls on 1-arrays)."""
+    if QT.shape[1] != 1:
+        return (*model.cos_sin(QT), QT)
+    q = QT[:, 0].tolist()
+    cos, sin = list(model.ct), list(model.st)
+    for j in model.rev_index:
+        cos[j], sin[j] = math.cos(model.th[j] + q[j]), math.sin(model.th[j] + q[j])
+    return cos, sin, q
+
+
+def _rate_inputs(X: FloatArray | None) -> list[float] | None:
+    """Rates of one configuration (n, 1) as Python floats."""
+    return None if X is None else X[:, 0].tolist()
+
+
+def _rnea(
+    robot: RobotParams,
+    Q: FloatArray,
+    QD: FloatArray | None,
+    QDD: FloatArray | None,
+    gravity: ArrayLike,
+    f_tool: ArrayLike | None,
+) -> FloatArray:
+    """τ (n, N) by RNEA, drive terms included, for Q etc. of shape (N, n) (None: zero)."""
+    model = _model(robot)
+    g0 = model.gravity_in_frame0(robot, gravity)
+    wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
+    kernel = _kernel(model, "rnea", g0, (QD is not None, QDD is not None), wrench is not None)
+    QT, QDT, QDDT = _rows(Q), _rows(QD), _rows(QDD)
+    if QT.shape[1] == 1:  # one configuration: Python floats throughout
+        cos, sin, q = _joint_inputs(model, QT)
+        ext = None if wrench is None else _rate_inputs(wrench)
+        tau = np.array(kernel(cos, sin, q, _rate_inputs(QDT), _rate_inputs(QDDT), ext))[:, None]
+    else:
+        tau = np.empty(QT.shape)
+        for s in range(0, QT.shape[1], CHUNK):
+            sl = slice(s, s + CHUNK)
+            cos, sin, q = _joint_inputs(model, QT[:, sl])
+            rates = [None if X is None else X[:, sl] for X in (QDT, QDDT)]
+            ext = None if wrench is None else wrench[:, sl]
+            for j, value in enumerate(kernel(cos, sin, q, rates[0], rates[1], ext)):
+                tau[j, sl] = value
+    drive = _drive_torque(model, QDT, QDDT)
+    if drive is not None:
+        tau += drive
+    return tau
+
+
+def _crba(model: _DynModel, QT: FloatArray) -> FloatArray:
+    """Mass matrices (n, n, M) of a chunk (n, M)."""
+    n = model.n
+    cos, sin, q = _joint_inputs(model, QT)
+    values = _kernel(model, "crba")(cos, sin, q, None, None, None)
+    if QT.shape[1] == 1:
+        return np.array(values).reshape(n, n, 1)
+    out = np.empty((n, n, QT.shape[1]))
+    for k, value in enumerate(values):
+        out[k // n, k % n] = value
+    return out
+
+
+def _arguments(robot: RobotParams, q: ArrayLike, **rates: ArrayLike) -> tuple[bool, list[FloatArray]]:
+    """Checked joint arrays as (N, n): q first, then ``rates`` (each the shape of q), and
+    whether q was a single configuration."""
+    q_arr = _joint_array(robot, q, "q")
+    arrays = [q_arr] + [_joint_array(robot, value, name, q_arr) for name, value in rates.items()]
+    return q_arr.ndim == 1, [np.atleast_2d(a) for a in arrays]
+
+
+# ------------------------------------------------------------------ public API
+
+
+def inverse_dynamics(
+    robot: RobotParams,
+    q: ArrayLike,
+    qd: ArrayLike,
+    qdd: ArrayLike,
+    gravity: ArrayLike = GRAVITY,
+    f_tool: ArrayLike | None = None,
+) -> FloatArray:
+    """Joint torques/forces τ [N·m or N] that produce accelerations ``qdd`` at ``q``, ``qd``
+    (recursive Newton–Euler), including reflected motor inertia and friction when the
+    robot has drives: τ = M q̈ + C q̇ + g + τ_f − Jᵀ f_tool.
+
+    q, qd, qdd: (n,) or (N, n) [rad, m; per s; per s²]; result of the same shape.
+    ``gravity`` [m/s²] in the world; ``f_tool`` (6,) or (N, 6) wrench [N; N·m] applied by
+    the environment at the tool frame origin, world frame.  ValueError for wrong shapes,
+    NaN/inf, or a robot without inertial data.
+    """
+    single, (Q, QD, QDD) = _arguments(robot, q, qd=qd, qdd=qdd)
+    tau = _rnea(robot, Q, QD, QDD, gravity, f_tool).T
+    return tau[0] if single else tau
+
+
+def gravity_torque(robot: RobotParams, q: ArrayLike, gravity: ArrayLike = GRAVITY) -> FloatArray:
+    """g(q): joint torques [N·m or N] that hold the arm still against gravity, (n,) or (N, n)."""
+    single, (Q,) = _arguments(robot, q)
+    tau = _rnea(robot, Q, None, None, gravity, None).T
+    return tau[0] if single else tau
+
+
+def bias_torque(
+    robot: RobotParams, q: ArrayLike, qd: ArrayLike, gravity: ArrayLike = GRAVITY, f_tool: ArrayLike | None = None
+) -> FloatArray:
+    """C(q, q̇) q̇ + g(q) + τ_f(q̇) (− Jᵀ f_tool when given): inverse dynamics at q̈ = 0."""
+    single, (Q, QD) = _arguments(robot, q, qd=qd)
+    tau = _rnea(robot, Q, QD, None, gravity, f_tool).T
+    return tau[0] if single else tau
+
+
+def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
+    """Joint-space inertia matrix M(q) (n, n) or (N, n, n) [kg·m², kg], symmetric positive
+    definite, reflected motor inertia G²·Jm on the diagonal (composite rigid bodies)."""
+    single, (Q,) = _arguments(robot, q)
+    model = _model(robot)
+    QT = _rows(Q)
+    out = np.empty((robot.n_dofs, robot.n_dofs, QT.shape[1]))
+    for s in range(0, QT.shape[1], CHUNK):
+        out[:, :, s : s + CHUNK] = _crba(model, QT[:, s : s + CHUNK])
+    out = out.transpose(2, 0, 1)
+    return out[0].copy() if single else out
+
+
+def forward_dynamics(
+    robot: RobotParams,
+    q: ArrayLike,
+    qd: ArrayLike,
+    tau: ArrayLike,
+    gravity: ArrayLike = GRAVITY,
+    f_tool: ArrayLike | None = None,
+) -> FloatArray:
+    """Joint accelerations q̈ = M⁻¹ (τ − C q̇ − g − τ_f + Jᵀ f_tool), (n,) or (N, n), by a
+    batched Cholesky solve of the composite-rigid-body M (see the README for why)."""
+    single, (Q, QD, TAU) = _arguments(robot, q, qd=qd, tau=tau)
+    model = _model(robot)
+    rhs = _rows(TAU) - _rnea(robot, Q, QD, None, gravity, f_tool)
+    QT = _rows(Q)
+    if single:
+        return np.linalg.solve(_crba(model, QT)[:, :, 0], rhs[:, 0])
+    out = np.empty(QT.shape)
+    for s in range(0, QT.shape[1], CHUNK):
+        sl = slice(s, s + CHUNK)
+        out[:, sl] = _solve_spd(_crba(model, QT[:, sl]), rhs[:, sl])
+    return out.T
+
+
+def _link_jacobians(robot: RobotParams, Q: FloatArray, QD: FloatArray) -> dict[str, FloatArray]:
+    """World-frame per-link quantities (N configurations, k = link, j = joint): COM
+    Jacobians ``Jv``, ``Jw`` (N, k, 3, j) and their time derivatives ``Jv_dot``, ``Jw_dot``
+    along q̇, link angular velocities ``omega`` (N, k, 3), world inertias ``inertia``
+    (N, k, 3, 3) about the COMs, and ``com`` (N, k, 3)."""
+    model = _model(robot)
+    li = robot.inertials
+    n = robot.n_dofs
+    frames = forward_kinematics(robot, Q, all_frames=True)[:, : n + 1]
+    axis_frames = frames[:, 1:] if model.modified else frames[:, :-1]
+    a, p = axis_frames[..., :3, 2], axis_frames[..., :3, 3]  # (N, j, 3)
+    rev = np.asarray(model.revolute)
+    R = frames[:, 1:, :3, :3]
+    com = frames[:, 1:, :3, 3] + np.einsum("nkab,kb->nka", R, li.com)
+    w_joint = a * (QD * rev)[..., None]
+    omega = np.cumsum(w_joint, axis=1)
+    omega_before = np.concatenate([np.zeros_like(omega[:, :1]), omega[:, :-1]], axis=1)
+    a_dot = np.cross(omega_before, a)
+    slide = a * (QD * ~rev)[..., None]
+
+    def velocity(x: FloatArray, mask: FloatArray) -> FloatArray:
+        """Velocity of points x (N, k, 3), point k moved by the joints j with mask[k, j]."""
+        contrib = np.cross(w_joint[:, None], x[:, :, None] - p[:, None]) + slide[:, None]
+        return np.einsum("kj,nkja->nka", mask, contrib)
+
+    lower = np.tril(np.ones((n, n)))
+    com_vel = velocity(com, lower)
+    p_vel = velocity(p, np.tril(np.ones((n, n)), -1))  # axis point as a point of the link before
+    lever = com[:, :, None] - p[:, None]  # (N, k, j, 3)
+    Jv = np.where(rev[None, None, :, None], np.cross(a[:, None], lever), a[:, None])
+    Jv_dot = np.where(
+        rev[None, None, :, None],
+        np.cross(a_dot[:, None], lever) + np.cross(a[:, None], com_vel[:, :, None] - p_vel[:, None]),
+        a_dot[:, None],
+    )
+    mask = (lower[None, :, :, None] * rev[None, None, :, None])
+    Jw = a[:, None] * mask
+    Jw_dot = a_dot[:, None] * mask
+    Jv, Jv_dot = Jv * lower[None, :, :, None], Jv_dot * lower[None, :, :, None]
+    inertia = np.einsum("nkab,kbc,nkdc->nkad", R, li.inertia, R)
+    return {
+        "Jv": Jv.transpose(0, 1, 3, 2), "Jw": Jw.transpose(0, 1, 3, 2),
+        "Jv_dot": Jv_dot.transpose(0, 1, 3, 2), "Jw_dot": Jw_dot.transpose(0, 1, 3, 2),
+        "omega": omega, "inertia": inertia, "com": com,
+    }
+
+
+def coriolis_matrix(robot: RobotParams, q: ArrayLike, qd: ArrayLike) -> FloatArray:
+    """C(q, q̇) (n, n) or (N, n, n) with C q̇ the Coriolis and centrifugal torques and
+    Ṁ − 2C skew-symmetric: Σ_k m_k J_vᵀ J̇_v + J_ωᵀ I_k J̇_ω + J_ωᵀ [ω_k]ₓ I_k J_ω over the
+    links (COM Jacobians and inertias in the world frame).  Motor inertia adds nothing."""
+    single, (Q, QD) = _arguments(robot, q, qd=qd)
+    _model(robot)  # refuses a robot without inertial data
+    mass = np.asarray(robot.inertials.mass)
+    parts = _link_jacobians(robot, Q, QD)
+    Jv, Jw, Jv_dot, Jw_dot = parts["Jv"], parts["Jw"], parts["Jv_dot"], parts["Jw_dot"]
+    inertia, omega = parts["inertia"], parts["omega"]
+    spin = np.cross(omega[:, :, :, None], inertia, axis=2)  # [ω]ₓ I, column by column
+    C = np.einsum("k,nkai,nkaj->nij", mass, Jv, Jv_dot)
+    C += np.einsum("nkai,nkab,nkbj->nij", Jw, inertia, Jw_dot)
+    C += np.einsum("nkai,nkab,nkbj->nij", Jw, spin, Jw)
+    return C[0] if single else C
+
+
+def energy(
+    robot: RobotParams, q: ArrayLike, qd: ArrayLike, gravity: ArrayLike = GRAVITY
+) -> tuple[FloatArray | float, FloatArray | float]:
+    """(kinetic, potential) energy [J]: ½ q̇ᵀ M q̇ (motor inertia included) and
+    −Σ m_k g·c_k with the COMs c_k in the world (zero at the world origin's height)."""
+    single, (Q, QD) = _arguments(robot, q, qd=qd)
+    g = _check_gravity(gravity)
+    M = mass_matrix(robot, Q)
+    kinetic = 0.5 * np.einsum("ni,nij,nj->n", QD, M, QD)
+    n = robot.n_dofs
+    frames = forward_kinematics(robot, Q, all_frames=True)[:, 1 : n + 1]
+    com = frames[..., :3, 3] + np.einsum("nkab,kb->nka", frames[..., :3, :3], robot.inertials.com)
+    potential = -np.einsum("k,nka,a->n", np.asarray(robot.inertials.mass), com, g)
+    if single:
+        return float(kinetic[0]), float(potential[0])
+    return kinetic, potential

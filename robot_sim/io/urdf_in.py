@@ -1,0 +1,441 @@
+"""Reading a serial arm from URDF (behind :mod:`urdf`): :func:`load_urdf`.
+
+Steps, each refusing bad input with one :class:`~robot_defs.RobotDefinitionError` before
+anything is built:
+
+1. **Parse** UTF-8 text with the standard library's ElementTree, refusing any
+   ``<!DOCTYPE``/``<!ENTITY`` (so no entity expansion can happen; the bytes are decoded
+   first, so a declared encoding cannot hide one), malformed XML and a root that is not
+   ``<robot>``.
+2. **Tree**: every joint's parent and child must be declared links, no link may have two
+   parents, the tree must have one root and no loop.  The chain runs from the root to
+   ``tip`` (a link name) or, without ``tip``, to the only leaf; several leaves need ``tip``.
+   Floating, planar and mimic joints are refused in the chain.
+3. **Axes**: walking the chain at q = 0, fixed joints fold into the running transform; each
+   moving joint gives a line in the root frame (point = its joint frame's origin,
+   direction = its axis).
+4. **Common normals** (modified DH frames): frame i has z along joint i's axis and x along
+   the common normal to joint i+1's axis, with its origin where that normal leaves axis i.
+   Intersecting axes: x = ±z_i × z_{i+1}, a = 0.  Parallel axes: the normal is taken from
+   the point of axis i where the previous normal arrived (d_i = 0).  Where x is free
+   (coincident axes, the last joint) or only its sign is (intersecting axes), it follows
+   the URDF joint frame's x axis.  The last frame sits where x_{n-1} meets its axis.  Frame 0
+   is frame 1 at q = 0, so a_0 = α_0 = θ_1 = d_1 = 0; the base transform is its pose in the
+   root frame, the tool transform carries the tip link from frame n.
+5. **Table**: a_{i-1}, α_{i-1}, θ_i, d_i read off Rx(α) Tx(a) Rz(θ) Tz(d) between successive
+   frames; the joint variable q_i equals the URDF joint value (z_i points along the URDF
+   axis).  ``convention="standard"`` then converts exactly (:mod:`dh_convert`).
+
+Limits carry over (continuous joints unlimited); effort and velocity limits become the
+robot's drives (0 counts as unknown).  Inertials carry over: the links of one rigid body
+(a moving joint's child and every link fixed to it along the chain) are lumped into one
+mass, COM and inertia (parallel-axis theorem) and expressed in that body's DH frame; links
+off the chain and before the first moving joint are left out.  Meshes are not read: the
+arm is drawn from its DH links.
+"""
+from __future__ import annotations
+
+import codecs
+import dataclasses
+import errno
+import math
+import re
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from robot_sim.model.convert import to_convention
+from robot_sim.io.files import FileReadError, read_regular_file
+from robot_sim.model.inertials import Drives, LinkInertials, _combine, inertia_from_elements
+from robot_sim.model.params import (
+    CONVENTION_MODIFIED,
+    CONVENTIONS,
+    JTYPE_PRISMATIC,
+    JTYPE_REVOLUTE,
+    RobotDefinitionError,
+    RobotParams,
+)
+from robot_sim.transforms import HomogeneousTransform, dh_transform
+
+#: Joint types a chain may hold, and the ones refused there.
+MOVING_TYPES = {"revolute": JTYPE_REVOLUTE, "continuous": JTYPE_REVOLUTE, "prismatic": JTYPE_PRISMATIC}
+REFUSED_TYPES = ("floating", "planar")
+JOINT_TYPES = (*MOVING_TYPES, "fixed", *REFUSED_TYPES)
+#: Largest URDF file read (bytes): arm descriptions are far smaller.
+MAX_URDF_BYTES = 16 << 20
+#: Below this distance (m) two axes meet, below this sine of their angle they are parallel.
+GEOMETRY_TOL = 1e-9
+#: Lengths within this of 0 (m) and angles within this of a multiple of 90° (rad) are
+#: rounded onto them (far below CONSTRUCTION_TOL).
+SNAP_TOL = 1e-12
+#: The DH table must reproduce the URDF's joint frames to this (m, or rad).
+CONSTRUCTION_TOL = 1e-9
+_DECLARATION = re.compile(r"<!\s*(DOCTYPE|ENTITY)", re.IGNORECASE)
+
+
+@dataclass(frozen=True)
+class _Joint:
+    name: str
+    kind: str
+    parent: str
+    child: str
+    origin: np.ndarray  # (4, 4) parent link → joint frame at q = 0
+    axis: np.ndarray  # (3,) unit, in the joint frame
+    lower: float
+    upper: float
+    effort: float
+    velocity: float
+    mimic: bool
+
+
+@dataclass(frozen=True)
+class _Inertial:
+    mass: float  # kg
+    origin: np.ndarray  # (4, 4) link frame → inertial frame (COM at its origin)
+    inertia: np.ndarray  # (3, 3) about the COM, inertial-frame axes
+
+
+class _Reader:
+    """Checks one URDF document; every error names the file and the element."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def fail(self, where: str, message: str) -> RobotDefinitionError:
+        return RobotDefinitionError(f"{self.path}: {where}: {message}")
+
+    def floats(self, element: ET.Element | None, attr: str, count: int, default: list[float], where: str) -> np.ndarray:
+        text = None if element is None else element.get(attr)
+        if text is None:
+            return np.array(default, dtype=float)
+        try:
+            values = [float(v) for v in text.split()]
+        except ValueError:
+            values = []
+        if len(values) != count or not all(math.isfinite(v) for v in values):
+            raise self.fail(f"{where} {attr}", f"expected {count} finite numbers, got {text!r}")
+        return np.array(values)
+
+    def joint(self, element: ET.Element, links: set[str]) -> _Joint:
+        name = element.get("name", "")
+        where = f"joint '{name}'"
+        kind = element.get("type")
+        if kind not in JOINT_TYPES:
+            raise self.fail(where, f"unknown joint type {kind!r}; accepted: {', '.join(JOINT_TYPES)}")
+        ends = {}
+        for end in ("parent", "child"):
+            tag = element.find(end)
+            link = None if tag is None else tag.get("link")
+            if link is None:
+                raise self.fail(where, f"missing <{end} link=...>")
+            if link not in links:
+                raise self.fail(where, f"{end} link '{link}' is not declared as a <link>")
+            ends[end] = link
+        origin_tag = element.find("origin")
+        xyz = self.floats(origin_tag, "xyz", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        rpy = self.floats(origin_tag, "rpy", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        origin = HomogeneousTransform.from_xyz_rpy(xyz, rpy).mat
+        axis = self.floats(element.find("axis"), "xyz", 3, [1.0, 0.0, 0.0], f"{where} axis")
+        norm = float(np.linalg.norm(axis))
+        if kind in MOVING_TYPES and norm < GEOMETRY_TOL:
+            raise self.fail(f"{where} axis", "the axis has zero length")
+        lower, upper = -math.inf, math.inf
+        limit = element.find("limit")
+        if kind in ("revolute", "prismatic"):
+            if limit is None:
+                raise self.fail(where, f"a {kind} joint needs <limit lower=... upper=...>")
+            lower, upper = (float(self.floats(limit, key, 1, [0.0], f"{where} limit")[0]) for key in ("lower", "upper"))
+            if lower > upper:
+                raise self.fail(f"{where} limit", f"lower {lower} > upper {upper}")
+        effort, velocity = (float(self.floats(limit, key, 1, [0.0], f"{where} limit")[0]) for key in ("effort", "velocity"))
+        return _Joint(name, kind, ends["parent"], ends["child"], origin, axis / max(norm, GEOMETRY_TOL),
+                      lower, upper, abs(effort), abs(velocity), element.find("mimic") is not None)
+
+    def inertial(self, link: ET.Element) -> _Inertial | None:
+        element = link.find("inertial")
+        if element is None:
+            return None
+        where = f"link '{link.get('name')}' inertial"
+        origin_tag = element.find("origin")
+        xyz = self.floats(origin_tag, "xyz", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        rpy = self.floats(origin_tag, "rpy", 3, [0.0, 0.0, 0.0], f"{where} origin")
+        mass = float(self.floats(element.find("mass"), "value", 1, [0.0], f"{where} mass")[0])
+        if mass < 0.0:
+            raise self.fail(f"{where} mass", f"the mass is negative: {mass}")
+        tensor = element.find("inertia")
+        elements = [float(self.floats(tensor, key, 1, [0.0], f"{where} inertia")[0])
+                    for key in ("ixx", "iyy", "izz", "ixy", "iyz", "ixz")]
+        return _Inertial(mass, HomogeneousTransform.from_xyz_rpy(xyz, rpy).mat, inertia_from_elements(*elements))
+
+
+def _parse(raw: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None]]:
+    reader = _Reader(path)
+    try:  # decoded here, so no declared encoding can hide a DOCTYPE from the check below
+        text = raw.removeprefix(codecs.BOM_UTF8).decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RobotDefinitionError(
+            f"{path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); save the URDF as UTF-8"
+        ) from None
+    if _DECLARATION.search(text):
+        raise RobotDefinitionError(f"{path}: DOCTYPE and ENTITY declarations are not accepted in a URDF")
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise RobotDefinitionError(f"{path}: malformed XML: {exc}") from None
+    if root.tag != "robot":
+        raise RobotDefinitionError(f"{path}: the root element is <{root.tag}>, expected <robot>")
+    names = [link.get("name", "") for link in root.findall("link")]
+    seen: set[str] = set()
+    for name in names:
+        if not name or name in seen:
+            raise reader.fail(f"link '{name}'", "every <link> needs a unique non-empty name")
+        seen.add(name)
+    joint_elements = root.findall("joint")
+    if not joint_elements:
+        raise RobotDefinitionError(f"{path}: no joints: a URDF arm needs <joint> elements")
+    joints = [reader.joint(j, seen) for j in joint_elements]
+    inertials = {link.get("name", ""): reader.inertial(link) for link in root.findall("link")}
+    return root.get("name", path.stem), names, joints, inertials
+
+
+def _chain(path: Path, names: list[str], joints: list[_Joint], tip: str | None) -> list[_Joint]:
+    """Joints from the root link to the tip link, checking that the links form a tree."""
+    parent_joint: dict[str, _Joint] = {}
+    for joint in joints:
+        if joint.child in parent_joint:
+            raise RobotDefinitionError(
+                f"{path}: link '{joint.child}' has two parent joints ('{parent_joint[joint.child].name}' and "
+                f"'{joint.name}'): URDF links must form a tree (a loop is not allowed)"
+            )
+        parent_joint[joint.child] = joint
+    roots = [n for n in names if n not in parent_joint]
+    if len(roots) != 1:
+        if not roots:
+            raise RobotDefinitionError(f"{path}: the joints form a loop: no link is the root")
+        raise RobotDefinitionError(f"{path}: several root links ({', '.join(roots)}): the links must form one tree")
+    for name in names:  # a loop not through the root: walking up never reaches it
+        seen, link = set(), name
+        while link in parent_joint:
+            if link in seen:
+                raise RobotDefinitionError(f"{path}: the joints form a loop through link '{link}'")
+            seen.add(link)
+            link = parent_joint[link].parent
+    if tip is None:
+        has_child = {j.parent for j in joints}
+        leaves = [n for n in names if n not in has_child]
+        if len(leaves) > 1:
+            raise RobotDefinitionError(
+                f"{path}: the tree has several tips ({', '.join(leaves)}); choose one with tip= (--tip LINK)"
+            )
+        tip = leaves[0]
+    elif tip not in names:
+        raise RobotDefinitionError(f"{path}: tip link '{tip}' is not declared; links: {', '.join(names)}")
+    chain, link = [], tip
+    while link in parent_joint:
+        chain.append(parent_joint[link])
+        link = parent_joint[link].parent
+    chain.reverse()
+    for joint in chain:
+        if joint.kind in REFUSED_TYPES:
+            raise RobotDefinitionError(f"{path}: joint '{joint.name}': {joint.kind} joints cannot be part of a DH chain")
+        if joint.mimic:
+            raise RobotDefinitionError(f"{path}: joint '{joint.name}': mimic joints are not supported in the chain")
+    if not any(j.kind in MOVING_TYPES for j in chain):
+        raise RobotDefinitionError(f"{path}: no joints: the chain to '{tip}' has no revolute, continuous or prismatic joint")
+    return chain
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v)
+
+
+def _perpendicular(z: np.ndarray, preferred: np.ndarray) -> np.ndarray:
+    """A unit vector perpendicular to z: the first of ``preferred`` (k, 3) that is not
+    parallel to z, with z's part removed."""
+    for helper in preferred:
+        x = helper - (helper @ z) * z
+        if np.linalg.norm(x) > 1e-6:
+            return _unit(x)
+    raise ValueError("every preferred direction is parallel to z")
+
+
+def _frame(origin: np.ndarray, x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    mat = np.eye(4)
+    mat[:3, 0], mat[:3, 2], mat[:3, 1] = x, z, np.cross(z, x)
+    mat[:3, 3] = origin
+    return mat
+
+
+def _dh_frames(points: np.ndarray, axes: np.ndarray, joint_x: np.ndarray) -> np.ndarray:
+    """Modified DH frames (n, 4, 4) in the root frame at q = 0 for joint axes through
+    ``points`` (n, 3) along unit ``axes`` (n, 3) (the common-normal construction).
+
+    Where the construction leaves x free (coincident axes, the last joint) or leaves its
+    sign free (intersecting axes), x follows the URDF joint frame's x axis ``joint_x``
+    (n, 3) as closely as it can, so a URDF written from a DH table gives that table back.
+    """
+    n = len(axes)
+    frames = np.empty((n, 4, 4))
+    start = points[0] - (points[0] @ axes[0]) * axes[0]  # axis 1's point nearest the root origin
+    x_prev = None
+    for i in range(n):
+        z = axes[i]
+        free = [joint_x[i], *([] if x_prev is None else [x_prev]), *np.eye(3)]
+        if i == n - 1:
+            frames[i] = _frame(start, _perpendicular(z, free), z)
+            break
+        p, u, q, v = start, z, points[i + 1], axes[i + 1]
+        c = np.cross(u, v)
+        skew = float(np.linalg.norm(c)) > GEOMETRY_TOL
+        if skew:  # feet of the common normal: p + s u and q + t v
+            w = q - p
+            s = float(np.cross(w, v) @ c) / float(c @ c)
+            t = float(np.cross(w, u) @ c) / float(c @ c)
+            origin, other = p + s * u, q + t * v
+        else:  # parallel: the normal from where the previous one arrived
+            origin = p
+            other = q + ((p - q) @ v) * v
+        normal = other - origin
+        length = float(np.linalg.norm(normal))
+        if length > GEOMETRY_TOL:
+            x = normal / length
+        elif skew:
+            x = _unit(c)
+            x = -x if x @ joint_x[i] < 0.0 else x
+        else:
+            x = _perpendicular(z, free)
+        frames[i] = _frame(origin, x, z)
+        start, x_prev = origin + length * x if length > GEOMETRY_TOL else origin, x
+    return frames
+
+
+def _snap(value: float, step: float | None = None) -> float:
+    """``value`` moved onto the nearest multiple of ``step`` (0 when None) when within
+    SNAP_TOL of it (rounding noise: 1e-16 m becomes 0, 89.99999999999999° 90°)."""
+    nearest = 0.0 if step is None else round(value / step) * step
+    return nearest + 0.0 if abs(value - nearest) < SNAP_TOL else value
+
+
+def _modified_row(rel: np.ndarray) -> tuple[float, float, float, float]:
+    """(a, α, θ, d) of rel = Rx(α) Tx(a) Rz(θ) Tz(d), rounding noise snapped away."""
+    alpha = _snap(math.atan2(-rel[1, 2], rel[2, 2]), math.pi / 2)
+    theta = _snap(math.atan2(-rel[0, 1], rel[0, 0]), math.pi / 2)
+    d = -math.sin(alpha) * rel[1, 3] + math.cos(alpha) * rel[2, 3]
+    return _snap(float(rel[0, 3])), alpha, theta, _snap(d)
+
+
+def load_urdf(path: str | Path, tip: str | None = None, convention: str = "standard") -> RobotParams:
+    """A serial arm from a URDF file, as a DH robot in ``convention`` (see the module
+    docstring for the construction).  Raises RobotDefinitionError naming the file for
+    anything it cannot load."""
+    path = Path(path)
+    if convention not in CONVENTIONS:
+        raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
+    try:
+        text = read_regular_file(path, MAX_URDF_BYTES)
+    except FileReadError as exc:
+        reason = "URDF file not found" if exc.errno == errno.ENOENT else f"cannot read URDF file: {exc.reason}"
+        raise RobotDefinitionError(f"{path}: {reason}") from None
+    name, names, joints, link_inertials = _parse(text, path)
+    chain = _chain(path, names, joints, tip)
+    try:
+        with np.errstate(all="ignore"):  # absurd numbers end as a refused value, not a warning
+            robot = _build(path, name, chain, link_inertials)
+    except RobotDefinitionError:
+        raise
+    except ValueError as exc:  # values RobotParams or LinkInertials refuse (non-physical inertia, ...)
+        raise RobotDefinitionError(f"{path}: {exc}") from None
+    return to_convention(_with_source(robot, path, chain), convention)
+
+
+def _build(path: Path, name: str, chain: list[_Joint], link_inertials: dict[str, _Inertial | None]) -> RobotParams:
+    """The modified DH robot of a checked chain (root frame at q = 0)."""
+    running = np.eye(4)
+    points, axes, joint_x, moving = [], [], [], []
+    parts: list[list[tuple[float, np.ndarray, np.ndarray]]] = []  # per body, in the root frame
+    for joint in chain:
+        running = running @ joint.origin
+        if joint.kind in MOVING_TYPES:
+            points.append(running[:3, 3].copy())
+            axes.append(running[:3, :3] @ joint.axis)
+            joint_x.append(running[:3, 0].copy())
+            moving.append(joint)
+            parts.append([])
+        inertial = link_inertials[joint.child]
+        if parts and inertial is not None:
+            pose = running @ inertial.origin
+            parts[-1].append((inertial.mass, pose[:3, 3], pose[:3, :3] @ inertial.inertia @ pose[:3, :3].T))
+    tip_pose = running
+    frames = _dh_frames(np.array(points), np.array(axes), np.array(joint_x))
+    if not (np.isfinite(frames).all() and np.isfinite(tip_pose).all()):
+        raise RobotDefinitionError(
+            f"{path}: the joint origins add up to positions beyond floating point (inf or NaN); "
+            "lengths must be metres of a real arm"
+        )
+    n = len(moving)
+    rows = [(0.0, 0.0, 0.0, 0.0)] + [_modified_row(np.linalg.inv(frames[i - 1]) @ frames[i]) for i in range(1, n)]
+    a, alpha, theta, d = (np.array(col) for col in zip(*rows))
+    _check_rows(path, frames, dh_transform(theta, d, a, alpha, "modified"))
+    jtype = [MOVING_TYPES[j.kind] for j in moving]
+    lo = np.array([j.lower for j in moving])
+    hi = np.array([j.upper for j in moving])
+    return RobotParams.from_arrays(
+        name, a, alpha, d, theta, jtype,
+        q_home=np.clip(0.0, lo, hi), q_min=lo, q_max=hi,
+        base_tf=HomogeneousTransform(frames[0]),
+        endeff_tf=HomogeneousTransform(np.linalg.inv(frames[-1]) @ tip_pose),
+        convention=CONVENTION_MODIFIED,
+        inertials=_body_inertials(parts, frames),
+        drives=_drives(moving),
+    )
+
+
+def _body_inertials(parts: list[list[tuple[float, np.ndarray, np.ndarray]]], frames: np.ndarray) -> LinkInertials | None:
+    """Each body's parts (mass, COM, inertia about it; root frame at q = 0) lumped and
+    expressed in its DH frame; None when the chain has no inertial at all."""
+    if not any(parts):
+        return None
+    n = len(parts)
+    mass, com, inertia = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for i, body in enumerate(parts):
+        R, o = frames[i][:3, :3], frames[i][:3, 3]
+        if not body:
+            continue
+        if sum(m for m, _, _ in body) > 0.0:
+            m, c, tensor = _combine(body)
+        else:  # massless parts may still carry rotor-like inertia: no parallel-axis terms
+            m, c, tensor = 0.0, o, sum(part[2] for part in body)
+        mass[i], com[i] = m, R.T @ (c - o)
+        local = R.T @ tensor @ R
+        inertia[i] = 0.5 * (local + local.T)
+    return LinkInertials.from_arrays(mass, com, inertia)
+
+
+def _drives(moving: list[_Joint]) -> Drives | None:
+    """Effort and velocity limits of the moving joints (0 = unknown = inf); None if all
+    are unknown."""
+    effort = np.array([j.effort or math.inf for j in moving])
+    velocity = np.array([j.velocity or math.inf for j in moving])
+    if not (np.isfinite(effort).any() or np.isfinite(velocity).any()):
+        return None
+    return Drives.from_arrays(len(moving), effort_limit=effort, velocity_limit=velocity)
+
+
+def _check_rows(path: Path, frames: np.ndarray, links: np.ndarray) -> None:
+    """The table's link transforms ``links`` (n, 4, 4) must rebuild the frames (a guard on
+    the construction, which holds by design)."""
+    rebuilt = frames[0]
+    for i in range(1, len(frames)):
+        rebuilt = rebuilt @ links[i]
+        if not np.allclose(rebuilt, frames[i], atol=CONSTRUCTION_TOL):
+            raise RobotDefinitionError(f"{path}: internal error: the DH table does not reproduce joint {i + 1}'s frame")
+
+
+def _with_source(robot: RobotParams, path: Path, chain: list[_Joint]) -> RobotParams:
+    return dataclasses.replace(
+        robot, source=str(path),
+        description=f"imported from URDF {path.name}: chain {chain[0].parent} → {chain[-1].child}",
+    )
+

@@ -1,0 +1,125 @@
+"""The joint panel of the window: per joint a slider with its limits written at its ends
+and a box to type the value, plus Home and Zero buttons.
+
+Values are shown in degrees (revolute) and metres (prismatic); the signals carry SI
+values (radians, metres).  The panel holds no state of its own beyond the robot it was
+built for: :meth:`JointPanel.show_q` puts the session's q on the widgets without echoing
+signals back.
+"""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+from PyQt5 import QtCore, QtWidgets
+from PyQt5.QtCore import Qt
+
+from robot_sim.graphics import defs as gd
+from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
+from robot_sim.viewer.session import display_range, display_scale, wrap_display
+
+
+class JointRow:
+    """The widgets of one joint: name, spin box, slider and its two limit labels."""
+
+    def __init__(self, robot: RobotParams, joint: int, layout: QtWidgets.QGridLayout) -> None:
+        prismatic = bool(robot.jtype[joint] == JTYPE_PRISMATIC)
+        self.ticks = gd.SLIDER_TICKS_PER_M if prismatic else gd.SLIDER_TICKS_PER_DEG
+        lo, hi = (float(v[joint]) for v in display_range(robot))
+        unit = gd.JOINT_UNIT_PRISMATIC if prismatic else gd.JOINT_UNIT_REVOLUTE
+        limited = math.isfinite(robot.q_min[joint]) or math.isfinite(robot.q_max[joint])
+        self.name = QtWidgets.QLabel(f"joint {joint + 1}" + ("" if limited else gd.JOINT_UNLIMITED_MARK))
+        self.box = QtWidgets.QDoubleSpinBox()
+        self.box.setDecimals(gd.JOINT_BOX_DECIMALS_PRISMATIC if prismatic else gd.JOINT_BOX_DECIMALS_REVOLUTE)
+        self.box.setRange(lo, hi)
+        self.box.setSingleStep(1.0 / self.ticks * 10)
+        self.box.setSuffix(unit)
+        self.box.setKeyboardTracking(False)  # valueChanged on Enter or focus out, not per digit
+        self.box.setToolTip(f"type a value in [{lo:g}, {hi:g}]{unit} and press Enter")
+        self.slider = QtWidgets.QSlider(Qt.Horizontal)
+        self.slider.setFocusPolicy(Qt.NoFocus)
+        self.slider.setRange(math.floor(lo * self.ticks), math.ceil(hi * self.ticks))
+        self.low = QtWidgets.QLabel(f"{lo:g}{unit}")
+        self.high = QtWidgets.QLabel(f"{hi:g}{unit}")
+        for label in (self.low, self.high):
+            label.setStyleSheet(gd.JOINT_LIMIT_LABEL_STYLE)
+        row = 2 * joint
+        layout.addWidget(self.name, row, 0, 1, 2)
+        layout.addWidget(self.box, row, 2)
+        layout.addWidget(self.low, row + 1, 0)
+        layout.addWidget(self.slider, row + 1, 1)
+        layout.addWidget(self.high, row + 1, 2, Qt.AlignLeft)
+
+    def widgets(self) -> tuple[QtWidgets.QWidget, ...]:
+        return self.name, self.box, self.slider, self.low, self.high
+
+    def show_value(self, value: float) -> None:
+        """Put ``value`` (display units) on the box and the slider without signals."""
+        for widget, shown in ((self.box, value), (self.slider, round(value * self.ticks))):
+            widget.blockSignals(True)
+            widget.setValue(shown)
+            widget.blockSignals(False)
+
+
+class JointPanel(QtWidgets.QWidget):
+    """Sliders and boxes for every joint, Home and Zero.
+
+    ``joint_moved(joint, value)`` carries one joint's new value (rad or m) from a slider
+    or a box; ``q_requested(q)`` a whole joint vector (n,) from Home or Zero.
+    """
+
+    joint_moved = QtCore.pyqtSignal(int, float)
+    q_requested = QtCore.pyqtSignal(object)
+
+    def __init__(self, parent: QtWidgets.QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.robot: RobotParams | None = None
+        self.rows: list[JointRow] = []
+        outer = QtWidgets.QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        self.grid = QtWidgets.QGridLayout()
+        self.grid.setVerticalSpacing(1)
+        self.grid.setColumnStretch(1, 1)
+        outer.addLayout(self.grid)
+        buttons = QtWidgets.QHBoxLayout()
+        self.home_button = QtWidgets.QPushButton("Home")
+        self.home_button.setToolTip("every joint to its home value from the robot file")
+        self.zero_button = QtWidgets.QPushButton("Zero")
+        self.zero_button.setToolTip("every joint to 0 (the nearest limit where 0 is outside it)")
+        for button in (self.home_button, self.zero_button):
+            button.setFocusPolicy(Qt.NoFocus)
+            buttons.addWidget(button)
+        outer.addLayout(buttons)
+        outer.addStretch(1)
+        self.home_button.clicked.connect(lambda: self.q_requested.emit(np.array(self.robot.q_home)))
+        self.zero_button.clicked.connect(
+            lambda: self.q_requested.emit(np.clip(np.zeros(self.robot.n_dofs), self.robot.q_min, self.robot.q_max))
+        )
+
+    def set_robot(self, robot: RobotParams) -> None:
+        """Rebuild the rows for ``robot``."""
+        for row in self.rows:
+            for widget in row.widgets():
+                self.grid.removeWidget(widget)
+                widget.deleteLater()
+        self.robot = robot
+        self.rows = [JointRow(robot, i, self.grid) for i in range(robot.n_dofs)]
+        for i, row in enumerate(self.rows):
+            row.slider.valueChanged.connect(functools.partial(self._slider_moved, i))
+            row.box.valueChanged.connect(functools.partial(self._box_changed, i))
+
+    def show_q(self, q: NDArray[np.float64]) -> None:
+        """Show joint values ``q`` (SI, (n,)) on the rows."""
+        for row, value in zip(self.rows, wrap_display(self.robot, q)):
+            row.show_value(float(value))
+
+    def _slider_moved(self, joint: int, ticks: int) -> None:
+        self._emit(joint, ticks / self.rows[joint].ticks)
+
+    def _box_changed(self, joint: int, value: float) -> None:
+        self._emit(joint, value)
+
+    def _emit(self, joint: int, display_value: float) -> None:
+        self.joint_moved.emit(joint, display_value / float(display_scale(self.robot)[joint]))

@@ -1,0 +1,167 @@
+"""Widgets drawn over the window: the help overlay (key and mouse bindings) and the view
+information in the GL view's corners (grid scale, projection, follow mode, and the colour
+legend of the workspace cloud).
+
+Both are Qt widgets painted with QPainter above the GL picture, so they share no GL state
+with ``render_scene``.
+"""
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass
+
+import numpy as np
+from PyQt5 import QtCore, QtGui, QtWidgets
+from PyQt5.QtCore import Qt
+
+from robot_sim.graphics import defs as gd
+
+
+def help_rows() -> list[tuple[str, str]]:
+    """(keys, description) rows from KEY_BINDINGS then MOUSE_BINDINGS; consecutive
+    bindings with the same description share a row ("W / S", "1 .. 9")."""
+    groups: list[tuple[list[str], str]] = []
+    for key, mods, _action, _arg, text in gd.KEY_BINDINGS:
+        name = f"{mods}+{key}" if mods else key
+        if groups and groups[-1][1] == text:
+            groups[-1][0].append(name)
+        else:
+            groups.append(([name], text))
+    rows = [(" / ".join(names) if len(names) <= 2 else f"{names[0]} .. {names[-1]}", text) for names, text in groups]
+    return rows + list(gd.MOUSE_BINDINGS)
+
+
+def help_lines() -> list[str]:
+    """The help rows as aligned text lines ("keys  description")."""
+    rows = help_rows()
+    width = max(len(name) for name, _ in rows)
+    return [f"{name:<{width}}  {text}" for name, text in rows]
+
+
+class HelpOverlay(QtWidgets.QScrollArea):
+    """The key and mouse bindings over the whole window, on a translucent dark panel.
+
+    The rows are laid out in as many (keys, description) column pairs as fit the width
+    (up to ``HELP_MAX_COLUMNS``); what does not fit the height scrolls, so the whole list
+    is readable in any window from 640×480 up.  A click or Esc (handled by the window)
+    closes it.
+    """
+
+    def __init__(self, parent: QtWidgets.QWidget) -> None:
+        super().__init__(parent)
+        self.setFocusPolicy(Qt.NoFocus)
+        self.setFrameShape(QtWidgets.QFrame.NoFrame)
+        self.setWidgetResizable(True)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
+        self.setStyleSheet(
+            "QScrollArea {background: transparent;}"
+            " QLabel {color: rgb(%d, %d, %d);" % gd.HELP_TEXT_RGB
+            + " background: rgba(%d, %d, %d, %d);}" % gd.HELP_BACKGROUND_RGBA
+        )
+        self.label = QtWidgets.QLabel()
+        self.label.setTextFormat(Qt.RichText)
+        self.label.setAlignment(Qt.AlignLeft | Qt.AlignTop)
+        self.label.setMargin(gd.HELP_MARGIN_PX)
+        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
+        font.setStyleHint(QtGui.QFont.TypeWriter)
+        self.label.setFont(font)
+        self.viewport().setAutoFillBackground(False)
+        self.setWidget(self.label)
+        self.columns = 0
+        self.hide()
+
+    def fit(self, area: QtCore.QRect) -> None:
+        """Lay the rows out for ``area`` (the window's client rectangle) and take its
+        top-left part: as much as the text needs, scrolling what is taller than ``area``."""
+        scrollbar = self.verticalScrollBar().sizeHint().width()
+        for columns in range(gd.HELP_MAX_COLUMNS, 0, -1):  # the most column pairs that fit
+            self.columns = columns
+            self.label.setText(self.table_html(columns))
+            if self.label.sizeHint().width() + scrollbar <= area.width():
+                break
+        needed = self.label.sizeHint()
+        width = min(area.width(), needed.width() + scrollbar)  # room for the bar if it shows
+        self.setGeometry(area.left(), area.top(), width, min(area.height(), needed.height()))
+
+    @staticmethod
+    def table_html(columns: int) -> str:
+        """The rows as an HTML table of ``columns`` (keys, description) pairs."""
+        rows = help_rows()
+        per_column = -(-len(rows) // columns)
+        cell = f'style="padding-right: {gd.HELP_COLUMN_GAP_PX}px; white-space: pre"'
+        lines = []
+        for r in range(per_column):
+            cells = []
+            for c in range(columns):
+                i = c * per_column + r
+                keys, text = rows[i] if i < len(rows) else ("", "")
+                cells.append(f"<td {cell}><b>{html.escape(keys)}</b></td><td {cell}>{html.escape(text)}</td>")
+            lines.append("<tr>" + "".join(cells) + "</tr>")
+        return "<table cellspacing=0>" + "".join(lines) + "</table>"
+
+    def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
+        self.hide()
+
+
+@dataclass
+class ViewInfo:
+    """What the view's corners say: grid spacing (m), projection, follow mode, and the
+    cloud's value range and colour stops when the cloud is shown."""
+
+    grid_step: float
+    orthographic: bool
+    following: bool
+    cloud_range: tuple[float, float] | None = None
+
+
+class ViewInfoOverlay(QtWidgets.QWidget):
+    """Bottom-left: grid spacing, projection and follow mode; bottom-right, while the
+    workspace cloud is shown: its colour bar from the lowest to the highest
+    manipulability.  Transparent to the mouse."""
+
+    def __init__(self, parent: QtWidgets.QWidget) -> None:
+        super().__init__(parent)
+        self.setAttribute(Qt.WA_TransparentForMouseEvents)
+        self.setFocusPolicy(Qt.NoFocus)
+        self.info = ViewInfo(grid_step=0.0, orthographic=False, following=False)
+
+    def status_text(self) -> str:
+        """The bottom-left line."""
+        parts = [gd.VIEW_INFO_GRID_FORMAT.format(step=self.info.grid_step),
+                 "orthographic" if self.info.orthographic else "perspective"]
+        if self.info.following:
+            parts.append("following the endeffector")
+        return "  ·  ".join(parts)
+
+    def legend_rect(self) -> QtCore.QRect:
+        """Where the colour bar is drawn (widget pixels)."""
+        w, h = gd.LEGEND_BAR_SIZE_PX
+        margin = gd.VIEW_INFO_MARGIN_PX
+        return QtCore.QRect(self.width() - margin - w, self.height() - margin - h - gd.LEGEND_TEXT_PX, w, h)
+
+    def paintEvent(self, event: QtGui.QPaintEvent) -> None:
+        painter = QtGui.QPainter(self)
+        font = painter.font()
+        font.setPixelSize(gd.LEGEND_TEXT_PX)
+        painter.setFont(font)
+        painter.setPen(QtGui.QColor(*gd.VIEW_INFO_TEXT_RGB))
+        margin = gd.VIEW_INFO_MARGIN_PX
+        painter.drawText(margin, self.height() - margin, self.status_text())
+        if self.info.cloud_range is not None:
+            self._paint_legend(painter)
+        painter.end()
+
+    def _paint_legend(self, painter: QtGui.QPainter) -> None:
+        rect = self.legend_rect()
+        gradient = QtGui.QLinearGradient(QtCore.QPointF(rect.left(), 0), QtCore.QPointF(rect.right(), 0))
+        for stop, r, g, b in np.asarray(gd.WORKSPACE_COLORMAP, dtype=float):
+            gradient.setColorAt(stop, QtGui.QColor(round(255 * r), round(255 * g), round(255 * b)))
+        painter.fillRect(rect, gradient)
+        painter.drawRect(rect)
+        lo, hi = self.info.cloud_range
+        text_y = rect.bottom() + gd.LEGEND_TEXT_PX + 2
+        painter.drawText(rect.left(), text_y, f"{lo:.3g}")
+        high = f"{hi:.3g}"
+        painter.drawText(rect.right() - painter.fontMetrics().horizontalAdvance(high), text_y, high)
+        title = gd.LEGEND_TITLE
+        painter.drawText(rect.center().x() - painter.fontMetrics().horizontalAdvance(title) // 2, rect.top() - 4, title)

@@ -1,0 +1,110 @@
+"""``--record DIR --duration T --fps F``: render a session offscreen (OSMesa) to a numbered
+PNG sequence, one frame every 1/F s of simulated time, and to an H.264 MP4 beside it when
+the optional ``video`` extra (imageio-ffmpeg, which carries its own ffmpeg) is installed.
+No Qt."""
+from __future__ import annotations
+
+import math
+import os
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robot_sim.graphics import defs as gd
+from robot_sim import graphics as go
+
+#: A frame's file name (``RECORD_FRAME_FORMAT``) with its index as group 1.
+_FRAME_NAME = re.compile(re.escape(gd.RECORD_FRAME_FORMAT.split("{")[0]) + r"(\d+)" + re.escape(gd.RECORD_FRAME_FORMAT.split("}")[1]))
+
+try:
+    import imageio_ffmpeg
+except ImportError:  # the optional extra: pip install 'robot-sim[video]'
+    imageio_ffmpeg = None
+
+
+class _Mp4:
+    """An MP4 written frame by frame to a temporary name in its directory and renamed
+    when complete, so a failed recording leaves no partial video."""
+
+    def __init__(self, path: Path, size: tuple[int, int], fps: float) -> None:
+        self.path = path
+        self.tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.mp4")
+        # macro_block_size 2: H.264's yuv420p needs even sizes (odd ones are rounded up)
+        self.writer: Any = imageio_ffmpeg.write_frames(
+            str(self.tmp), size, fps=fps, quality=gd.RECORD_VIDEO_QUALITY, macro_block_size=2,
+        )
+        self.writer.send(None)
+
+    def add(self, image: NDArray[np.uint8]) -> None:
+        self.writer.send(np.ascontiguousarray(image[..., :3]))
+
+    def finish(self) -> Path:
+        self.writer.close()
+        os.replace(self.tmp, self.path)
+        return self.path
+
+    def abort(self) -> None:
+        self.writer.close()
+        self.tmp.unlink(missing_ok=True)
+
+
+def frame_times(duration: float, fps: float) -> list[float]:
+    """Times [s] of the frames: k / fps for k = 0 .. round(duration * fps) (at least one).
+    ValueError for a negative or non-finite duration or a non-positive fps."""
+    if not (math.isfinite(duration) and duration >= 0.0):
+        raise ValueError(f"duration must be a finite number of seconds >= 0, got {duration!r}")
+    if not (math.isfinite(fps) and fps > 0.0):
+        raise ValueError(f"fps must be a positive number, got {fps!r}")
+    return [k / fps for k in range(round(duration * fps) + 1)]
+
+
+def record(
+    session, out_dir: Path, duration: float, fps: float, size: tuple[int, int]
+) -> tuple[list[Path], Path | None]:
+    """Render ``session`` (a viewer_state.ViewerSession) at each of :func:`frame_times` into
+    ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
+    imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
+    paths and the video's (None without the extra).  Higher-numbered frames an earlier,
+    longer recording left in ``out_dir`` are removed once this one is complete.
+
+    A pick demo is shown at its start time plus each frame time (scrubbed, exact); anything
+    else (the circle demo, an animation) is advanced by 1/fps between frames.
+    """
+    times = frame_times(duration, fps)
+    start = session.pick.time if session.pick is not None else 0.0
+    paths = []
+    go.require_osmesa_platform()
+    video = _Mp4(out_dir / gd.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
+    try:
+        with go.OffscreenRenderer(*size) as renderer:
+            for index, t in enumerate(times):
+                if session.pick is not None:
+                    session.show_pick_at(start + t)
+                elif index:
+                    session.step(1.0 / fps)
+                image = renderer.render(session.camera, session.scene(), session.options)
+                path = out_dir / gd.RECORD_FRAME_FORMAT.format(index=index)
+                go.save_png(path, image)
+                paths.append(path)
+                if video is not None:
+                    video.add(image)
+    except BaseException:
+        if video is not None:
+            video.abort()
+        raise
+    _remove_stale_frames(out_dir, len(paths))
+    return paths, (video.finish() if video is not None else None)
+
+
+def _remove_stale_frames(out_dir: Path, count: int) -> None:
+    """Delete the frames numbered ``count`` and up that an earlier, longer recording left
+    in ``out_dir`` (only files named exactly like ``RECORD_FRAME_FORMAT``), so the
+    directory's sequence is this recording."""
+    for path in out_dir.iterdir():
+        match = _FRAME_NAME.fullmatch(path.name)
+        if match and int(match.group(1)) >= count and path.is_file():
+            path.unlink()
+
