@@ -61,13 +61,30 @@ def _moved_inertials(
     return LinkInertials.from_arrays(inertials.mass, com, inertia, inertials.estimated)
 
 
+def _moved_geometry(robot: RobotParams, a: NDArray[np.float64], alpha: NDArray[np.float64], inverse: bool) -> dict:
+    """Link shapes re-posed from standard frames i to modified frames i (``inverse``
+    False: pose_mod = S_i pose_std with S_i = Tx(a_i)Rx(α_i) of standard row i) or back
+    (pose_std = S_i⁻¹ pose_mod, and the base's shapes by (Rx(α_0)Tx(a_0))⁻¹ of modified
+    row 1, which the new base absorbs): the fields to replace."""
+    sign = -1.0 if inverse else 1.0  # (Tx(a)Rx(α))⁻¹ = Tx(-a)Rx(-α)
+    S = dh_transform(0.0, 0.0, sign * a, sign * alpha)  # (n, 4, 4)
+    fields = {key: tuple(tuple(shape.moved(S[i]) for shape in shapes) for i, shapes in enumerate(getattr(robot, key)))
+              for key in ("visuals", "collisions")}
+    if inverse:
+        to_base = dh_transform(0.0, 0.0, -robot.dh_a[0], -robot.dh_alpha[0])
+        fields.update({key: tuple(shape.moved(to_base) for shape in getattr(robot, key))
+                       for key in ("base_visuals", "base_collisions")})
+    return fields
+
+
 def to_modified(robot: RobotParams) -> RobotParams:
     """The same robot as a modified (Craig) DH table; returned unchanged if it is one.
 
     Modified row i takes a_{i-1}, α_{i-1} from standard row i-1 (row 1 gets 0, 0); the tool
     absorbs the last standard row's Tx(a_n)Rx(α_n).  θ, d, joints, limits and the base are
     kept.  Modified frame i = standard frame i · (Tx(a_i)Rx(α_i))⁻¹ (on joint i's axis);
-    inertials are re-expressed in it.
+    inertials are re-expressed in it and link shapes re-posed (frame 0 and the base's
+    shapes stay).
     """
     if robot.is_modified:
         return robot
@@ -78,6 +95,7 @@ def to_modified(robot: RobotParams) -> RobotParams:
         dh_alpha=frozen(np.concatenate([[0.0], robot.dh_alpha[:-1]])),
         endeff_tf=_x_motion(robot.dh_a[-1], robot.dh_alpha[-1]) @ robot.endeff_tf,
         convention=CONVENTION_MODIFIED,
+        **_moved_geometry(robot, robot.dh_a, robot.dh_alpha, inverse=False),
     )
 
 
@@ -87,7 +105,8 @@ def to_standard(robot: RobotParams) -> RobotParams:
     Standard row i takes a_i, α_i from modified row i+1 (the last row gets 0, 0); the base
     absorbs modified row 1's Rx(α_0)Tx(a_0).  θ, d, joints, limits and the tool are kept.
     Standard frame i = modified frame i · Tx(a_i)Rx(α_i) (with the new row i's a_i, α_i):
-    z along joint i+1's axis; inertials are re-expressed in it.
+    z along joint i+1's axis; inertials are re-expressed in it and link shapes re-posed,
+    the base's shapes into the new frame 0.
     """
     if not robot.is_modified:
         return robot
@@ -99,6 +118,7 @@ def to_standard(robot: RobotParams) -> RobotParams:
         dh_alpha=frozen(alpha),
         base_tf=robot.base_tf @ _x_motion(robot.dh_a[0], robot.dh_alpha[0]),
         convention=CONVENTION_STANDARD,
+        **_moved_geometry(robot, a, alpha, inverse=True),
     )
 
 

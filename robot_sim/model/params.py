@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 from robot_sim.model.arrays import frozen
 from robot_sim.model.inertials import Drives, LinkInertials
 from robot_sim.model.messages import clip_repr
+from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Sphere
 from robot_sim.transforms import HomogeneousTransform, is_rigid_transform
 
 JTYPE_REVOLUTE = 0
@@ -28,6 +29,10 @@ CONVENTION_MODIFIED = "modified"
 CONVENTIONS = (CONVENTION_STANDARD, CONVENTION_MODIFIED)
 
 DEFAULT_COM_FRACTION = 0.5
+
+#: Shapes a link may be made of (a half-space is an obstacle, never part of a link).
+LINK_SHAPE_TYPES = (Box, Sphere, Cylinder, Capsule, Mesh)
+LinkShape = Box | Sphere | Cylinder | Capsule | Mesh
 
 
 class RobotDefinitionError(ValueError):
@@ -48,6 +53,12 @@ class RobotParams:
     immutable and compare by identity (they key per-robot caches).  ``inertials`` (mass
     properties of each link in its frame) and ``drives`` (motor inertia, gearing, friction,
     limits) are None when the file gives none; see :mod:`inertials`.
+
+    Geometry (:mod:`robot_sim.model.shapes`): ``visuals`` and ``collisions`` hold one tuple
+    of shapes per link i, posed in frame i of the convention (frame i is the frame after
+    joint i); ``base_visuals`` and ``base_collisions`` are the base's, posed in frame 0.
+    Empty tuples where a description has none (``()`` is taken as n empty tuples).
+    :func:`~robot_sim.model.convert.to_standard`/``to_modified`` move them with the frames.
     """
 
     name: str
@@ -68,12 +79,37 @@ class RobotParams:
     inertials: LinkInertials | None = None
     drives: Drives | None = None
     control: dict[str, Any] = field(default_factory=dict)
+    visuals: tuple[tuple[LinkShape, ...], ...] = ()
+    collisions: tuple[tuple[LinkShape, ...], ...] = ()
+    base_visuals: tuple[LinkShape, ...] = ()
+    base_collisions: tuple[LinkShape, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:
             raise ValueError(
                 f"convention must be 'standard' or 'modified', got {clip_repr(self.convention)}"
             )
+        n = len(self.dh_a)
+        for key in ("visuals", "collisions"):
+            per_link = getattr(self, key)
+            if isinstance(per_link, (tuple, list)) and len(per_link) == 0:
+                per_link = ((),) * n
+            if not isinstance(per_link, (tuple, list)) or len(per_link) != n:
+                size = len(per_link) if isinstance(per_link, (tuple, list)) else clip_repr(per_link)
+                raise ValueError(f"{key}: expected {n} tuples of shapes (one per link), got {size}")
+            object.__setattr__(self, key, tuple(_shapes(f"{key}[{i}]", s) for i, s in enumerate(per_link)))
+        for key in ("base_visuals", "base_collisions"):
+            object.__setattr__(self, key, _shapes(key, getattr(self, key)))
+
+    @property
+    def has_visuals(self) -> bool:
+        """True if the base or any link carries a visual shape (else it is drawn from its DH table)."""
+        return bool(self.base_visuals) or any(self.visuals)
+
+    @property
+    def has_collisions(self) -> bool:
+        """True if the base or any link carries a collision shape."""
+        return bool(self.base_collisions) or any(self.collisions)
 
     @property
     def is_modified(self) -> bool:
@@ -119,12 +155,16 @@ class RobotParams:
         convention: str = CONVENTION_STANDARD,
         inertials: LinkInertials | None = None,
         drives: Drives | None = None,
+        visuals: Any = (),
+        collisions: Any = (),
+        base_visuals: Any = (),
+        base_collisions: Any = (),
     ) -> "RobotParams":
         """Build parameters from arrays in SI units (for programmatic robots and tests).
 
         Defaults: home at 0, unlimited joints, link COMs at mid-link, identity base and
-        tool, standard DH (``convention="modified"`` reads the rows as Craig's), no inertials
-        and no drives.
+        tool, standard DH (``convention="modified"`` reads the rows as Craig's), no inertials,
+        no drives and no geometry (shapes per link as in the class docstring).
         Raises ValueError naming the argument for anything else than finite real numbers
         of matching lengths (limits may be ±inf), joint types other than 0 and 1, limits
         with min > max, a home outside them, COM fractions outside [0, 1] or a base or
@@ -168,7 +208,21 @@ class RobotParams:
             convention=convention,
             inertials=inertials,
             drives=drives,
+            visuals=visuals,
+            collisions=collisions,
+            base_visuals=base_visuals,
+            base_collisions=base_collisions,
         )
+
+
+def _shapes(name: str, values: Any) -> tuple[LinkShape, ...]:
+    """``values`` as a tuple of link shapes; ValueError naming ``name`` otherwise."""
+    if not isinstance(values, (tuple, list)):
+        raise ValueError(f"{name}: expected a tuple of shapes, got {clip_repr(values)}")
+    for k, shape in enumerate(values):
+        if not isinstance(shape, LINK_SHAPE_TYPES):
+            raise ValueError(f"{name}[{k}]: expected a Box, Sphere, Cylinder, Capsule or Mesh, got {clip_repr(shape)}")
+    return tuple(values)
 
 
 def _real_vector(name: str, values: Any, n: int | None = None, allow_inf: bool = False) -> NDArray[np.float64]:

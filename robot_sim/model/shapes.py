@@ -233,6 +233,18 @@ class Mesh(_ShapeBase):
             raise ValueError(f"Mesh.source: expected a file path or a (vertices (V, 3), faces (F, 3)) "
                              f"pair, got {type(src).__name__}")
 
+    @classmethod
+    def from_file_data(
+        cls, path: Union[str, Path], vertices: ArrayLike, faces: ArrayLike, *,
+        pose: Optional[ArrayLike] = None, scale: ArrayLike = (1.0, 1.0, 1.0), color: Optional[Color] = None,
+    ) -> "Mesh":
+        """The mesh of file ``path`` whose contents, unscaled vertices (V, 3) [m] and
+        faces (F, 3), were already read (by ``robot_sim.io.meshes`` while a robot loads,
+        which checks the file then): ``path`` is kept and never read again."""
+        mesh = cls(str(path), pose=np.eye(4) if pose is None else pose, scale=scale, color=color)
+        mesh._data.append(_mesh_arrays(vertices, faces, f"Mesh {str(path)!r}"))
+        return mesh
+
     def _key(self) -> tuple:
         src = self.source if isinstance(self.source, str) else (
             self.source[0].tobytes(), self.source[1].tobytes())
