@@ -51,6 +51,7 @@ _EXPORTS = {
     "load_urdf": "robot_sim.io.urdf_in",
     "to_toml": "robot_sim.io.robot_writer",
     "save_robot": "robot_sim.io.robot_writer",
+    "MeshSkippedWarning": "robot_sim.io.meshes",
     # planning
     "Trajectory": "robot_sim.planning.trajectory",
     "quintic": "robot_sim.planning.profiles",

@@ -239,7 +239,7 @@ BAD_FILES = {
     "com below 0": (dict(joints=(JOINT + "com = -0.1\n",)), ["joints[0].com: com fraction -0.1 is outside [0, 1]"]),
     "typo in joint": (
         dict(joints=(JOINT.replace("alpha", "alpah"),)),
-        ["joints[0].alpah: unknown key 'alpah'; accepted keys: a, alpha, com, d, drive, home, inertial, limits, theta, type"],
+        ["joints[0].alpah: unknown key 'alpah'; accepted keys: a, alpha, collision, com, d, drive, home, inertial, limits, theta, type, visual"],
     ),
     "typo at top level": (
         dict(head=HEAD + 'descripton = "x"\n'),
@@ -253,7 +253,7 @@ BAD_FILES = {
         dict(head=HEAD + "convention = 1\n"),
         ["convention: unknown convention 1; accepted: 'standard' or 'modified'"],
     ),
-    "typo in base": (dict(tables="[base]\nxzy = [0.0, 0.0, 0.0]\n"), ["base.xzy: unknown key 'xzy'; accepted keys: rpy, xyz"]),
+    "typo in base": (dict(tables="[base]\nxzy = [0.0, 0.0, 0.0]\n"), ["base.xzy: unknown key 'xzy'; accepted keys: collision, rpy, visual, xyz"]),
     "typo in tool": (dict(tables="[tool]\nrpy = [0.0, 0.0, 0.0]\nroll = 1.0\n"), ["tool.roll: unknown key 'roll'; accepted keys: rpy, xyz"]),
     "description not a string": (dict(head=HEAD + "description = 5\n"), ["description: expected a string, got 5"]),
 }

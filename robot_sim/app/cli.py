@@ -11,6 +11,8 @@ import dataclasses
 import math
 import os
 import re
+import sys
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Sequence
@@ -24,6 +26,7 @@ from robot_sim.app.robot_cmds import dh_table_text, export
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
 from robot_sim.model.messages import clip
 from robot_sim.model.params import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
+from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
 from robot_sim.viewer import recording
 from robot_sim.viewer.pick_demo import plan_for
@@ -83,6 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf",
                         help=f"shipped robot name, robot file or URDF file (default: {DEFAULT_ROBOT})")
     parser.add_argument("--tip", metavar="LINK", help="URDF only: the link that ends the chain (when the tree branches)")
+    parser.add_argument("--skip-missing-meshes", action="store_true",
+                        help="load the robot without the mesh files that cannot be found or read "
+                             "(one warning per file) instead of refusing it")
     parser.add_argument("--convention", choices=CONVENTIONS,
                         help="DH convention to use (default: the robot file's own; standard for URDF)")
     parser.add_argument("--print-dh", action="store_true", help="print the DH table in both conventions and exit")
@@ -268,9 +274,17 @@ def config_from_args(args: argparse.Namespace) -> Config:
     if args.tip is not None and not args.robot.lower().endswith(".urdf"):
         raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{args.robot}'")
     try:
-        robot = load_robot(args.robot, tip=args.tip, convention=args.convention)
+        with warnings.catch_warnings(record=True) as skipped:
+            warnings.simplefilter("always", MeshSkippedWarning)
+            robot = load_robot(args.robot, tip=args.tip, convention=args.convention,
+                               skip_missing_meshes=args.skip_missing_meshes)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
+    for warning in skipped:
+        if issubclass(warning.category, MeshSkippedWarning):
+            print(f"{PROG}: warning: {' '.join(str(warning.message).split())}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     if args.workspace:
         check_workspace(args.workspace, robot)
     pick_plan, time, pick_effort, pick_report = pick_arguments(args, robot)

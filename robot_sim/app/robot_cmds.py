@@ -89,9 +89,10 @@ def dh_table_text(robot: RobotParams) -> str:
 
 
 def export(robot: RobotParams, path: str, kind: str) -> Path:
-    """Write ``robot`` as ``kind`` ("urdf" or "toml") to ``path`` atomically; returns the
-    path.  Raises OSError (FileWriteError) naming the path and the reason."""
-    text = to_urdf(robot) if kind == "urdf" else to_toml(robot)
+    """Write ``robot`` as ``kind`` ("urdf" or "toml") to ``path`` atomically, mesh paths
+    relative to its folder; returns the path.  Raises OSError (FileWriteError) naming the
+    path and the reason, ValueError for a robot the format cannot hold."""
     target = Path(path).expanduser()
+    text = to_urdf(robot, path=target) if kind == "urdf" else to_toml(robot, directory=target.parent)
     write_atomic(target, text)
     return target

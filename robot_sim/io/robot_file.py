@@ -20,6 +20,8 @@ from robot_sim.model.arrays import frozen
 from robot_sim.io.checker import LENGTH_BOUND, MAX_LENGTH, Bound, FieldChecker
 from robot_sim.io.files import FileReadError, read_regular_file
 from robot_sim.io.inertial_tables import parse_joint_tables
+from robot_sim.io.meshes import MeshReader
+from robot_sim.io.shape_tables import GEOMETRY_KEYS, ShapeTables
 from robot_sim.model.messages import clip, clip_repr
 from robot_sim.model.params import (
     CONVENTION_STANDARD,
@@ -46,7 +48,7 @@ ROBOTS_DIR = _robots_dir()
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
-JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive"}
+JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive", *GEOMETRY_KEYS}
 DH_KEYS = ("a", "alpha", "d", "theta")
 #: Keys of the optional top-level ``[control]`` table (gains of control.py): ``bandwidth``
 #: closed-loop natural frequency in Hz (> 0), ``damping`` ratio (> 0), ``kp`` and ``kd``
@@ -107,7 +109,8 @@ def _read_text(path: Path, what: str, error: type[ValueError]) -> str:
 
 
 def load_robot(
-    name_or_path: str | Path, tip: str | None = None, convention: str | None = None
+    name_or_path: str | Path, tip: str | None = None, convention: str | None = None,
+    skip_missing_meshes: bool = False,
 ) -> RobotParams:
     """Load and validate a robot by shipped name (``"puma560"``), ``.toml`` path or
     ``.urdf`` path.
@@ -116,6 +119,9 @@ def load_robot(
     ``tip`` (needed when the tree branches), in ``convention`` (standard by default).  A
     TOML robot keeps its file's convention unless ``convention`` names the other one, to
     which it is converted exactly (``dh_convert``).  ``tip`` applies to URDF files only.
+    Mesh files are read with the robot: one that cannot be found or read is an error, or,
+    with ``skip_missing_meshes``, a :class:`~robot_sim.io.meshes.MeshSkippedWarning` (once
+    per file) and a robot without that mesh.
     """
     if convention is not None and convention not in CONVENTIONS:
         raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
@@ -123,12 +129,13 @@ def load_robot(
     if path.suffix.lower() == ".urdf":
         from robot_sim.io.urdf_in import load_urdf  # urdf builds on this module
 
-        robot = load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD)
+        robot = load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD,
+                          skip_missing_meshes=skip_missing_meshes)
         check_bounds(robot, path)
         return robot
     if tip is not None:
         raise ValueError(f"tip applies to URDF files only; {path} is a robot file")
-    robot = _load_toml(path)
+    robot = _parse_robot(read_toml(path), path, skip_missing_meshes)
     if convention is None:
         return robot
     from robot_sim.model.convert import to_convention  # dh_convert builds on this module
@@ -176,17 +183,14 @@ def read_toml(path: Path, what: str = "robot file", error: type[ValueError] = Ro
         raise error(f"{path}: invalid TOML: {clip(str(exc), 200)}") from None
 
 
-def _load_toml(path: Path) -> RobotParams:
-    return _parse_robot(read_toml(path), path)
-
-
-def parse_robot(data: dict[str, Any], path: str | Path) -> RobotParams:
+def parse_robot(data: dict[str, Any], path: str | Path, skip_missing_meshes: bool = False) -> RobotParams:
     """Validate the parsed TOML ``data`` of a robot file and build its parameters.
 
-    ``path`` names the file in error messages and becomes ``RobotParams.source``; raises
-    RobotDefinitionError like :func:`load_robot` (which reads the file and calls this).
+    ``path`` names the file in error messages and becomes ``RobotParams.source``; mesh
+    paths start from its folder.  Raises RobotDefinitionError like :func:`load_robot`
+    (which reads the file and calls this).
     """
-    return _parse_robot(data, Path(path))
+    return _parse_robot(data, Path(path), skip_missing_meshes)
 
 
 ANGLE_BOUNDS = {
@@ -195,7 +199,7 @@ ANGLE_BOUNDS = {
 }
 
 
-def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
+def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = False) -> RobotParams:
     check = FieldChecker(path)
     check.keys(data, TOP_KEYS, "")
     for key in REQUIRED_TOP_KEYS:
@@ -262,12 +266,24 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
             columns[key].append(value)
 
     inertials, drives = parse_joint_tables(check, joints)
-    base_tf = check.frame(data["base"], "base", angle, to_rad) if "base" in data else HomogeneousTransform()
+    base, base_tables = data.get("base", {}), {}
+    if isinstance(base, dict):  # [base] holds frame 0's pose and the base's geometry
+        check.keys(base, {"xyz", "rpy", *GEOMETRY_KEYS}, "base")
+        base_tables = {key: value for key, value in base.items() if key in GEOMETRY_KEYS}
+        base = {key: value for key, value in base.items() if key not in GEOMETRY_KEYS}
+    base_tf = check.frame(base, "base", angle, to_rad) if "base" in data else HomogeneousTransform()
     tool_tf = check.frame(data["tool"], "tool", angle, to_rad) if "tool" in data else HomogeneousTransform()
     description = data.get("description", "")
     if not isinstance(description, str):
         raise check.fail("description", f"expected a string, got {clip_repr(description)}")
     control = _parse_control(check, data["control"], len(jtypes)) if "control" in data else {}
+    tables = ShapeTables(check, Path(path).parent, to_rad, LENGTH_BOUND, angle, MeshReader(check.fail, skip_missing_meshes))
+    geometry = {
+        key: [tables.shapes(joint[key], f"joints[{i}].{key}", key) if key in joint else () for i, joint in enumerate(joints)]
+        for key in GEOMETRY_KEYS
+    }
+    base_geometry = {key: tables.shapes(base_tables[key], f"base.{key}", key) if key in base_tables else ()
+                     for key in GEOMETRY_KEYS}
 
     return RobotParams(
         name=name,
@@ -288,6 +304,10 @@ def _parse_robot(data: dict[str, Any], path: Path) -> RobotParams:
         inertials=inertials,
         drives=drives,
         control=control,
+        visuals=tuple(geometry["visual"]),
+        collisions=tuple(geometry["collision"]),
+        base_visuals=base_geometry["visual"],
+        base_collisions=base_geometry["collision"],
     )
 
 

@@ -35,7 +35,8 @@ from robot_sim.model.params import (
     RobotDefinitionError,
     RobotParams,
 )
-from robot_sim.io.robot_file import UNITS, parse_robot
+from robot_sim.io.robot_file import ANGLE_BOUNDS, UNITS, parse_robot
+from robot_sim.io.shape_tables import GEOMETRY_KEYS, sync_shape_tables
 from robot_sim.transforms import HomogeneousTransform, rpy_from_rot
 
 #: Fields :func:`with_dh_value` edits (the keys of a ``[[joints]]`` table).
@@ -108,20 +109,23 @@ def _frame_loads_to(table: Any, scale: float, tf: HomogeneousTransform) -> bool:
 
 
 def _set_frame(doc: Any, key: str, tf: HomogeneousTransform, scale: float) -> None:
-    """Write the ``[base]`` or ``[tool]`` table for ``tf`` (removed when it is the identity)."""
+    """Write ``xyz`` and ``rpy`` of the ``[base]`` or ``[tool]`` table for ``tf``; for the
+    identity remove them, and the table too unless it holds geometry."""
     if key in doc and _frame_loads_to(doc[key], scale, tf):
         return
+    table = doc[key] if key in doc else tomlkit.table()
     if np.array_equal(tf.mat, np.eye(4)):
-        if key in doc:
+        for field in ("xyz", "rpy"):
+            table.pop(field, None)
+        if key in doc and not any(field in table for field in GEOMETRY_KEYS):
             del doc[key]
         return
-    table = tomlkit.table()
     table["xyz"] = [float(v) for v in tf.t()]
     table["rpy"] = [file_number(v, scale) for v in rpy_from_rot(tf.R())]
     doc[key] = table
 
 
-def _sync_joint(table: Any, robot: RobotParams, i: int, to_rad: float) -> None:
+def _sync_joint(table: Any, robot: RobotParams, i: int, to_rad: float, place: "_Place") -> None:
     where = f"joints[{i}]"
     jtype = int(robot.jtype[i])
     if table.get("type") != _TYPE_NAMES[jtype]:
@@ -135,6 +139,21 @@ def _sync_joint(table: Any, robot: RobotParams, i: int, to_rad: float) -> None:
     _set_limits(table, float(robot.q_min[i]), float(robot.q_max[i]), q_scale, where)
     _set_optional(table, "com", float(robot.link_com_frac[i]), 1.0, DEFAULT_COM_FRACTION)
     _sync_mass_properties(table, robot, i)
+    place.sync(table, {"visual": robot.visuals[i], "collision": robot.collisions[i]})
+
+
+@dataclasses.dataclass(frozen=True)
+class _Place:
+    """Where a document's mesh paths point: written relative to ``directory`` (absolute
+    when None), read from ``template_dir`` (the template's folder), angles in ``units``."""
+
+    directory: Path | None
+    template_dir: Path
+    units: str
+
+    def sync(self, table: Any, shapes: dict[str, tuple]) -> None:
+        sync_shape_tables(table, shapes, self.directory, self.template_dir, UNITS[self.units],
+                          ANGLE_BOUNDS[self.units], file_number)
 
 
 def _set_vector(table: Any, key: str, values: Any) -> None:
@@ -186,7 +205,7 @@ def _sync_mass_properties(table: Any, robot: RobotParams, i: int) -> None:
         _set_vector(drive, "coulomb", dr.coulomb[i])
 
 
-def _sync_joints(doc: Any, robot: RobotParams, to_rad: float) -> None:
+def _sync_joints(doc: Any, robot: RobotParams, to_rad: float, place: _Place) -> None:
     joints = doc.get("joints")
     if not isinstance(joints, AoT):
         joints = tomlkit.aot()
@@ -197,12 +216,17 @@ def _sync_joints(doc: Any, robot: RobotParams, to_rad: float) -> None:
         joints.append(tomlkit.table())
         joints[-1].trivia.indent = "\n"
     for i in range(robot.n_dofs):
-        _sync_joint(joints[i], robot, i, to_rad)
+        _sync_joint(joints[i], robot, i, to_rad, place)
 
 
-def robot_document(robot: RobotParams, template: str | None = None) -> tomlkit.TOMLDocument:
+def robot_document(
+    robot: RobotParams, template: str | None = None, directory: str | os.PathLike[str] | None = None
+) -> tomlkit.TOMLDocument:
     """The tomlkit document of ``robot``: ``template`` parsed and brought up to date, or a
-    new document in degrees.  ValueError for a robot no file can hold (one-sided limits)."""
+    new document in degrees.  Mesh paths are written relative to ``directory`` (the folder
+    the file goes to; absolute when None); the template's own paths are read from that
+    folder, or from the robot's source's when None.  ValueError for a robot no file can
+    hold (one-sided limits, a mesh without a file)."""
     if template is None:
         doc = tomlkit.document()
         origin = Path(robot.source).name if robot.source else "a robot built in code"
@@ -219,25 +243,34 @@ def robot_document(robot: RobotParams, template: str | None = None) -> tomlkit.T
     to_rad = UNITS[doc["units"]]
     if doc.get("convention", CONVENTION_STANDARD) != robot.convention:
         doc["convention"] = robot.convention
-    _sync_joints(doc, robot, to_rad)
+    folder = None if directory is None else Path(os.path.abspath(directory))
+    place = _Place(folder, folder or Path(os.path.abspath(robot.source or ".")).parent, doc["units"])
+    _sync_joints(doc, robot, to_rad, place)
+    base_shapes = {"visual": robot.base_visuals, "collision": robot.base_collisions}
+    if any(base_shapes.values()) and "base" not in doc:
+        doc["base"] = tomlkit.table()
+    if "base" in doc:
+        place.sync(doc["base"], base_shapes)
     _set_frame(doc, "base", robot.base_tf, to_rad)
     _set_frame(doc, "tool", robot.endeff_tf, to_rad)
     return doc
 
 
-def to_toml(robot: RobotParams, template: str | None = None) -> str:
+def to_toml(robot: RobotParams, template: str | None = None, directory: str | os.PathLike[str] | None = None) -> str:
     """Text of a robot file that loads back to ``robot``.
 
     With ``template`` (the original file's text) only the values that changed are
     rewritten; comments, citations and layout are kept.  Without it, a new file in degrees.
+    Mesh paths are relative to ``directory``, the folder the file is written to (absolute
+    when None).
     """
-    return tomlkit.dumps(robot_document(robot, template))
+    return tomlkit.dumps(robot_document(robot, template, directory))
 
 
 def save_robot(robot: RobotParams, path: str | os.PathLike[str], template: str | None = None) -> None:
     """Write ``robot`` to ``path`` atomically (:func:`fileio.write_atomic`), style-preserving
-    when ``template`` is given.  FileWriteError (an OSError) naming the path and the reason."""
-    write_atomic(path, to_toml(robot, template))
+    when ``template`` is given, mesh paths relative to the file's folder.  FileWriteError (an OSError) naming the path and the reason."""
+    write_atomic(path, to_toml(robot, template, Path(path).parent))
 
 
 def _in_file_units(field: str, value: Any, jtype: int, to_rad: float) -> Any:

@@ -30,8 +30,16 @@ Limits carry over (continuous joints unlimited); effort and velocity limits beco
 robot's drives (0 counts as unknown).  Inertials carry over: the links of one rigid body
 (a moving joint's child and every link fixed to it along the chain) are lumped into one
 mass, COM and inertia (parallel-axis theorem) and expressed in that body's DH frame; links
-off the chain and before the first moving joint are left out.  Meshes are not read: the
-arm is drawn from its DH links.
+off the chain and before the first moving joint are left out.
+
+Geometry carries over the same way (:mod:`robot_sim.io.urdf_shapes`): the ``<visual>`` and
+``<collision>`` elements of every link of a body, and of the links fixed to them off the
+chain (a camera bracket), are moved into that body's DH frame; the root link's and those
+before the first moving joint become the base's, in frame 0.  Mesh files are resolved and
+read (:mod:`robot_sim.io.meshes`) before the robot is built: one that cannot be found or
+read is an error naming the URDF, the link and the URI, or with ``skip_missing_meshes`` a
+warning (once per file) and a robot without it.  Links on branches behind moving joints are
+left out with their geometry.
 """
 from __future__ import annotations
 
@@ -48,6 +56,8 @@ import numpy as np
 
 from robot_sim.model.convert import to_convention
 from robot_sim.io.files import FileReadError, read_regular_file
+from robot_sim.io.meshes import MeshReader
+from robot_sim.io.urdf_shapes import LinkGeometry, MeshRef, Shape, link_geometry, materials, placed
 from robot_sim.model.inertials import Drives, LinkInertials, _combine, inertia_from_elements
 from robot_sim.model.params import (
     CONVENTION_MODIFIED,
@@ -170,7 +180,9 @@ class _Reader:
         return _Inertial(mass, HomogeneousTransform.from_xyz_rpy(xyz, rpy).mat, inertia_from_elements(*elements))
 
 
-def _parse(raw: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None]]:
+def _parse(
+    raw: bytes, path: Path
+) -> tuple[str, list[str], list[_Joint], dict[str, _Inertial | None], dict[str, LinkGeometry]]:
     reader = _Reader(path)
     try:  # decoded here, so no declared encoding can hide a DOCTYPE from the check below
         text = raw.removeprefix(codecs.BOM_UTF8).decode("utf-8")
@@ -197,7 +209,9 @@ def _parse(raw: bytes, path: Path) -> tuple[str, list[str], list[_Joint], dict[s
         raise RobotDefinitionError(f"{path}: no joints: a URDF arm needs <joint> elements")
     joints = [reader.joint(j, seen) for j in joint_elements]
     inertials = {link.get("name", ""): reader.inertial(link) for link in root.findall("link")}
-    return root.get("name", path.stem), names, joints, inertials
+    named = materials(reader, root)
+    geometry = {link.get("name", ""): link_geometry(reader, link, named) for link in root.findall("link")}
+    return root.get("name", path.stem), names, joints, inertials, geometry
 
 
 def _chain(path: Path, names: list[str], joints: list[_Joint], tip: str | None) -> list[_Joint]:
@@ -326,10 +340,14 @@ def _modified_row(rel: np.ndarray) -> tuple[float, float, float, float]:
     return _snap(float(rel[0, 3])), alpha, theta, _snap(d)
 
 
-def load_urdf(path: str | Path, tip: str | None = None, convention: str = "standard") -> RobotParams:
+def load_urdf(
+    path: str | Path, tip: str | None = None, convention: str = "standard", skip_missing_meshes: bool = False
+) -> RobotParams:
     """A serial arm from a URDF file, as a DH robot in ``convention`` (see the module
-    docstring for the construction).  Raises RobotDefinitionError naming the file for
-    anything it cannot load."""
+    docstring for the construction), with its visual and collision geometry.  Raises
+    RobotDefinitionError naming the file for anything it cannot load; a mesh file that
+    cannot be found or read is left out with a MeshSkippedWarning when
+    ``skip_missing_meshes``."""
     path = Path(path)
     if convention not in CONVENTIONS:
         raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
@@ -338,11 +356,12 @@ def load_urdf(path: str | Path, tip: str | None = None, convention: str = "stand
     except FileReadError as exc:
         reason = "URDF file not found" if exc.errno == errno.ENOENT else f"cannot read URDF file: {exc.reason}"
         raise RobotDefinitionError(f"{path}: {reason}") from None
-    name, names, joints, link_inertials = _parse(text, path)
+    name, names, joints, link_inertials, geometry = _parse(text, path)
     chain = _chain(path, names, joints, tip)
     try:
         with np.errstate(all="ignore"):  # absurd numbers end as a refused value, not a warning
             robot = _build(path, name, chain, link_inertials)
+            robot = _with_geometry(robot, path, chain, joints, geometry, MeshReader(_Reader(path).fail, skip_missing_meshes))
     except RobotDefinitionError:
         raise
     except ValueError as exc:  # values RobotParams or LinkInertials refuse (non-physical inertia, ...)
@@ -390,6 +409,46 @@ def _build(path: Path, name: str, chain: list[_Joint], link_inertials: dict[str,
         inertials=_body_inertials(parts, frames),
         drives=_drives(moving),
     )
+
+
+def _with_geometry(robot: RobotParams, path: Path, chain: list[_Joint], joints: list[_Joint],
+                   geometry: dict[str, LinkGeometry], meshes: MeshReader) -> RobotParams:
+    """The modified DH robot ``robot`` of ``chain`` with the geometry of its links (and of
+    the links fixed to them off the chain) moved into the DH frames, meshes read."""
+    frames = [robot.base_tf.mat]  # frame 0 in the root frame, then frame i at q = 0
+    for i in range(robot.n_dofs):
+        frames.append(frames[-1] @ dh_transform(robot.dh_th[i], robot.dh_d[i], robot.dh_a[i], robot.dh_alpha[i], "modified"))
+    fixed_children: dict[str, list[_Joint]] = {}
+    for joint in joints:
+        if joint.kind == "fixed":
+            fixed_children.setdefault(joint.parent, []).append(joint)
+    on_chain = {chain[0].parent, *(j.child for j in chain)}
+    bodies: list[list[tuple[str, np.ndarray]]] = [[] for _ in range(robot.n_dofs + 1)]  # (link, pose in root)
+
+    def add(body: int, link: str, pose: np.ndarray) -> None:
+        """``link`` and the links fixed to it off the chain (depth first) into ``body``."""
+        stack = [(link, pose)]
+        while stack:
+            link, pose = stack.pop()
+            bodies[body].append((link, pose))
+            stack += [(j.child, pose @ j.origin) for j in reversed(fixed_children.get(link, [])) if j.child not in on_chain]
+
+    running, body = np.eye(4), 0
+    add(0, chain[0].parent, running)
+    for joint in chain:
+        running = running @ joint.origin
+        body += joint.kind in MOVING_TYPES
+        add(body, joint.child, running)
+    out: dict[str, list[tuple[Shape, ...]]] = {"visuals": [], "collisions": []}
+    for i, links in enumerate(bodies):
+        to_frame = np.linalg.inv(frames[i])
+        for key in out:
+            items: list[tuple[np.ndarray, Shape | MeshRef]] = [
+                (to_frame @ pose, item) for link, pose in links for item in getattr(geometry[link], key)
+            ]
+            out[key].append(placed(items, path.parent, meshes))
+    return dataclasses.replace(robot, base_visuals=out["visuals"][0], base_collisions=out["collisions"][0],
+                               visuals=tuple(out["visuals"][1:]), collisions=tuple(out["collisions"][1:]))
 
 
 def _body_inertials(parts: list[list[tuple[float, np.ndarray, np.ndarray]]], frames: np.ndarray) -> LinkInertials | None:

@@ -14,21 +14,28 @@ where URDF puts a joint frame), whatever convention the robot uses:
 Limits are written when finite (position, and effort/velocity when the robot carries
 drives with finite values; URDF requires the two attributes, so unknown ones are written as
 0, which this package's importer reads back as unknown).  Inertials, when the robot has
-them, are written in the URDF link frames.  Every link gets a cylinder along its joint axis
-and one along the segment to the next joint at q = 0 (visual and collision alike).
+them, are written in the URDF link frames.  So is the robot's geometry (base shapes on
+``link0``, link i's on ``link{i}``; :mod:`robot_sim.io.urdf_shapes`), mesh filenames
+relative to the URDF's folder when its path is given (capsules as ``<capsule>``, which
+this package reads back).  A robot without geometry gets, so that other viewers show it, a
+cylinder along each joint axis and one along the segment to the next joint at q = 0
+(visual and collision alike), named ``dh_drawing`` so the importer leaves them out.
 Numbers are written with ``repr`` (17 significant digits), so reading the file back loses
 nothing.
 """
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 
 from robot_sim.model.convert import to_modified
 from robot_sim.io.robot_file import MAX_LENGTH
+from robot_sim.io.urdf_shapes import DH_DRAWING_NAME, write_shapes
+from robot_sim.io.urdf_shapes import num_text as _num, write_origin as _origin
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
-from robot_sim.transforms import EPS_NORM, dh_transform, rotations_z_onto, rpy_from_rot
+from robot_sim.transforms import EPS_NORM, dh_transform, rotations_z_onto
 
 #: Export geometry (metres): cylinder radius and length of a joint, radius of a link.
 URDF_JOINT_RADIUS = 0.04
@@ -38,20 +45,11 @@ URDF_LINK_RADIUS = 0.025
 URDF_UNLIMITED_STROKE = MAX_LENGTH  # the longest stroke a robot file (and load_robot) accepts
 
 
-def _num(values: float | np.ndarray) -> str:
-    """Space-separated shortest exact decimal forms (``repr``) of float values."""
-    return " ".join(repr(float(v) + 0.0) for v in np.atleast_1d(values))
-
-
-def _origin(parent: ET.Element, mat: np.ndarray) -> None:
-    ET.SubElement(parent, "origin", xyz=_num(mat[:3, 3]), rpy=_num(np.array(rpy_from_rot(mat[:3, :3]))))
-
-
 def _cylinder(link: ET.Element, mat: np.ndarray, radius: float, length: float) -> None:
     """Visual and collision cylinder of ``radius`` and ``length`` placed by ``mat`` (its
     centre and z axis) in the link frame."""
     for kind in ("visual", "collision"):
-        element = ET.SubElement(link, kind)
+        element = ET.SubElement(link, kind, name=DH_DRAWING_NAME)
         _origin(element, mat)
         geometry = ET.SubElement(element, "geometry")
         ET.SubElement(geometry, "cylinder", radius=_num(radius), length=_num(length))
@@ -88,10 +86,12 @@ def _limit_values(robot: RobotParams, i: int) -> tuple[float, float]:
     return (effort if np.isfinite(effort) else 0.0), (velocity if np.isfinite(velocity) else 0.0)
 
 
-def to_urdf(robot: RobotParams) -> str:
+def to_urdf(robot: RobotParams, path: str | Path | None = None) -> str:
     """URDF text (an XML document) describing ``robot``: see the module docstring for the
     links and joints it holds.  Its forward kinematics equals the robot's (link ``tool0``
-    is the endeffector) for every joint vector; joint values are the robot's q."""
+    is the endeffector) for every joint vector; joint values are the robot's q.  ``path``
+    is where the text will be written: mesh filenames are relative to its folder
+    (absolute when None).  ValueError for a mesh given as arrays (it has no file)."""
     mod = to_modified(robot)
     n = mod.n_dofs
     root = ET.Element("robot", name=robot.name)
@@ -105,12 +105,18 @@ def to_urdf(robot: RobotParams) -> str:
     # joint origins at q = 0: Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)
     origins = dh_transform(mod.dh_th, mod.dh_d, mod.dh_a, mod.dh_alpha, "modified")
     inertials = getattr(mod, "inertials", None)
+    directory = None if path is None else Path(path).parent
+    drawn = mod.has_visuals or mod.has_collisions
     for i in range(n + 1):
         link = links[i]
+        if i > 0 and inertials is not None:
+            _inertial(link, inertials.mass[i - 1], inertials.com[i - 1], inertials.inertia[i - 1])
+        if drawn:
+            write_shapes(link, "visual", mod.visuals[i - 1] if i else mod.base_visuals, directory)
+            write_shapes(link, "collision", mod.collisions[i - 1] if i else mod.base_collisions, directory)
+            continue
         if i > 0:
             _cylinder(link, np.eye(4), URDF_JOINT_RADIUS, URDF_JOINT_LENGTH)
-            if inertials is not None:
-                _inertial(link, inertials.mass[i - 1], inertials.com[i - 1], inertials.inertia[i - 1])
         end = origins[i][:3, 3] if i < n else mod.endeff_tf.t()
         _segment_cylinder(link, np.asarray(end, dtype=float))
 

@@ -201,7 +201,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         path = Path(path)
         try:
             if path.suffix.lower() == ".urdf":
-                write_atomic(path, to_urdf(self.robot))
+                write_atomic(path, to_urdf(self.robot, path=path))
             else:
                 toml_template = self.path is not None and self.path.suffix.lower() == ".toml"
                 save_robot(self.robot, path, template=self.text if toml_template else None)

@@ -1,0 +1,209 @@
+"""Mesh files of robot descriptions: where a mesh reference points, and reading the file.
+
+* :func:`resolve_mesh_uri` turns a URDF ``<mesh filename=...>`` (``package://PKG/path``,
+  ``file:///abs/path``, an absolute path or a path relative to the URDF's folder) into a
+  file path.  ``package://PKG`` is looked up, in this order, in the entries of the
+  ``ROS_PACKAGE_PATH`` environment variable (an entry that is the folder ``PKG`` itself,
+  or holds ``PKG/``), then in the URDF's parent folders (one named ``PKG`` or holding
+  ``PKG/``), and last as the nearest parent folder that holds the rest of the path (a
+  description copied out of its ROS package under another name, as RViz users often do).
+* :func:`read_mesh` reads STL, OBJ and PLY through ``trimesh`` and Collada DAE through
+  ``trimesh`` with ``pycollada``: the triangles of the whole file in metres (a DAE's
+  ``<unit meter=...>`` is applied, its ``up_axis`` is not, as in RViz), node transforms
+  applied.  ``trimesh`` is imported on the first read, so robots without meshes never
+  load it.  A file unchanged since it was read (size, modification time) is not read
+  again: a robot edited in the DH table is parsed again at every edit.
+* :class:`MeshReader` reads the meshes of one robot description into shapes and turns a
+  failure into the caller's one-line error, or, with ``skip_missing``, into one
+  :class:`MeshSkippedWarning` per file and no shape.
+
+Vertices are metres in the mesh file's own frame (before any scale or pose).
+"""
+from __future__ import annotations
+
+import errno
+import io
+import os
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from urllib.parse import unquote, urlsplit
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.io.files import FileReadError, read_regular_file
+from robot_sim.model.messages import clip
+from robot_sim.model.shapes import Color, Mesh
+
+#: Mesh file formats read (suffix, lower case) and trimesh's name of each.
+MESH_FORMATS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".dae": "dae"}
+#: Largest mesh file read (bytes): CAD exports of arm links are far smaller.
+MAX_MESH_BYTES = 256 << 20
+#: Environment variable listing ROS package folders (``os.pathsep`` separated).
+PACKAGE_PATH_VARIABLE = "ROS_PACKAGE_PATH"
+
+MeshArrays = tuple[NDArray[np.float64], NDArray[np.int64]]
+
+
+class MeshError(ValueError):
+    """A mesh reference could not be resolved or its file not read; the message says why
+    (with the path tried) and leaves naming the robot file to the caller."""
+
+
+class MeshSkippedWarning(UserWarning):
+    """A mesh was left out of a robot loaded with ``skip_missing_meshes`` (one per file)."""
+
+
+def _package_dirs(package: str, urdf_dir: Path, package_path: str | None) -> list[Path]:
+    """Candidate folders of ROS package ``package``, in the order they are searched."""
+    candidates: list[Path] = []
+    for entry in (package_path or "").split(os.pathsep):
+        if entry:
+            root = Path(entry).expanduser()
+            candidates += [root] if root.name == package else []
+            candidates.append(root / package)
+    for parent in (urdf_dir, *urdf_dir.parents):
+        candidates += [parent] if parent.name == package else []
+        candidates.append(parent / package)
+    return candidates
+
+
+def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) -> Path:
+    """The file a URDF mesh ``uri`` names, for a URDF in folder ``urdf_dir``.
+
+    ``package_path`` is the ``ROS_PACKAGE_PATH`` value to search (the environment's when
+    None).  Raises :class:`MeshError` for an empty or unsupported URI (``http://``) and for
+    a ``package://`` or local file that is nowhere to be found, naming what was tried.
+    """
+    if not uri.strip():
+        raise MeshError("empty mesh filename")
+    parts = urlsplit(uri)
+    scheme = parts.scheme.lower()
+    if scheme == "package":
+        package, rest = parts.netloc, unquote(parts.path).lstrip("/")
+        if not package or not rest:
+            raise MeshError("expected package://PACKAGE/path/to/mesh")
+        if package_path is None:
+            package_path = os.environ.get(PACKAGE_PATH_VARIABLE, "")
+        for folder in _package_dirs(package, urdf_dir, package_path):
+            if (folder / rest).is_file():
+                return folder / rest
+        for parent in (urdf_dir, *urdf_dir.parents):  # a package folder renamed
+            if (parent / rest).is_file():
+                return parent / rest
+        where = f"{PACKAGE_PATH_VARIABLE} ({clip(package_path) or 'unset'})"
+        raise MeshError(f"package '{package}' with {rest} not found in {where} or the URDF's parent folders")
+    if scheme == "file":
+        path = Path(unquote(parts.path))
+    elif scheme and len(scheme) > 1:  # "c:" is a drive, not a scheme
+        raise MeshError(f"unsupported URI scheme '{scheme}://'; accepted: package://, file:// or a file path")
+    else:
+        path = Path(uri).expanduser()
+    return path if path.is_absolute() else urdf_dir / path
+
+
+def read_mesh(path: Path) -> MeshArrays:
+    """Vertices (V, 3) [m] and triangles (F, 3) of the mesh file at ``path`` (read-only).
+
+    A file read before and unchanged since (same size and modification time) is not
+    read again.  Raises :class:`MeshError` naming the path for a missing, unreadable or
+    oversized file, a format other than STL, OBJ, PLY or DAE, contents that do not
+    parse, or a file without a triangle.
+    """
+    suffix = path.suffix.lower()
+    if suffix not in MESH_FORMATS:
+        raise MeshError(f"{path}: unsupported mesh format '{path.suffix}'; accepted: {', '.join(MESH_FORMATS)}")
+    try:
+        info = os.stat(path)
+        key = (os.path.abspath(path), info.st_size, info.st_mtime_ns)
+    except OSError:
+        key = None  # read_regular_file says why
+    if key in _CACHE:
+        return _CACHE[key]
+    try:
+        raw = read_regular_file(path, MAX_MESH_BYTES)
+    except FileReadError as exc:
+        raise MeshError(f"{path}: {'mesh file not found' if exc.errno == errno.ENOENT else exc.reason}") from None
+    arrays = _parse_mesh(raw, suffix, path)
+    if key is not None:
+        _remember(key, arrays)
+    return arrays
+
+
+def _parse_mesh(raw: bytes, suffix: str, path: Path) -> MeshArrays:
+    """The triangles of the mesh file contents ``raw`` (format by ``suffix``) in metres."""
+    try:
+        import trimesh  # imported here: only robots with meshes need it
+    except ImportError:
+        raise MeshError(f"{path}: reading mesh files needs trimesh (pip install trimesh)") from None
+    try:
+        mesh = trimesh.load(io.BytesIO(raw), file_type=MESH_FORMATS[suffix], force="mesh")
+        vertices = np.array(mesh.vertices, dtype=float).reshape(-1, 3)
+        faces = np.array(mesh.faces, dtype=np.int64).reshape(-1, 3)
+        if suffix == ".dae" and mesh.units:  # <unit meter="0.001"/> reads "0.001 * meters"
+            vertices *= trimesh.units.unit_conversion(mesh.units, "meters")
+    except ImportError as exc:  # DAE without pycollada
+        raise MeshError(f"{path}: reading {suffix} files needs {exc.name or 'pycollada'} (pip install pycollada)") from None
+    except Exception as exc:  # trimesh and its parsers raise anything on a corrupt file
+        raise MeshError(f"{path}: not a readable {suffix} mesh: {clip(str(exc) or type(exc).__name__)}") from None
+    if faces.shape[0] == 0:
+        raise MeshError(f"{path}: not a readable {suffix} mesh: it holds no triangles")
+    if not np.isfinite(vertices).all():
+        raise MeshError(f"{path}: not a readable {suffix} mesh: a vertex is not a finite number")
+    vertices.setflags(write=False)
+    faces.setflags(write=False)
+    return vertices, faces
+
+
+#: Meshes read, by (absolute path, size, modification time).
+_CACHE: dict[tuple[str, int, int], MeshArrays] = {}
+#: Bytes of vertex and face data the cache keeps at most (the oldest entries go first).
+MAX_CACHED_MESH_BYTES = 1 << 30
+
+
+def _remember(key: tuple[str, int, int], arrays: MeshArrays) -> None:
+    _CACHE.pop(key, None)
+    _CACHE[key] = arrays
+    total = sum(v.nbytes + f.nbytes for v, f in _CACHE.values())
+    while total > MAX_CACHED_MESH_BYTES and len(_CACHE) > 1:
+        oldest = next(iter(_CACHE))
+        total -= sum(a.nbytes for a in _CACHE.pop(oldest))
+
+
+class MeshReader:
+    """Reads the meshes of one robot description into :class:`Mesh` shapes.
+
+    ``fail(where, message)`` builds the caller's error (``RobotDefinitionError`` naming
+    the robot file); with ``skip_missing`` a mesh that cannot be found or read is left out
+    instead, and one :class:`MeshSkippedWarning` per file says so.
+    """
+
+    def __init__(self, fail: Callable[[str, str], Exception], skip_missing: bool = False) -> None:
+        self.fail = fail
+        self.skip_missing = skip_missing
+        self._skipped: set[str] = set()
+
+    def mesh(
+        self, path: Path | MeshError, where: str, pose: ArrayLike, scale: ArrayLike, color: Color | None = None
+    ) -> Mesh | None:
+        """The mesh of the file ``path`` (or the MeshError that resolving its reference
+        raised) placed by ``pose`` (4, 4) in its link frame and scaled by ``scale`` (3,);
+        None when it is skipped.  ``where`` names the element (file, link and URI, or
+        field) in the error or warning."""
+        try:
+            if isinstance(path, MeshError):
+                raise path
+            path = Path(os.path.abspath(path))
+            vertices, faces = read_mesh(path)
+        except MeshError as exc:
+            if not self.skip_missing:
+                raise self.fail(where, str(exc)) from None
+            if str(exc) not in self._skipped:
+                self._skipped.add(str(exc))
+                warnings.warn(f"{self.fail(where, str(exc))}; mesh left out", MeshSkippedWarning, stacklevel=3)
+            return None
+        try:
+            return Mesh.from_file_data(path, vertices, faces, pose=pose, scale=scale, color=color)
+        except ValueError as exc:  # a scale or colour the shape refuses
+            raise self.fail(where, clip(str(exc))) from None
