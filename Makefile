@@ -12,10 +12,16 @@ SYSTEM_PKGS := libosmesa6 libgl1 xvfb xauth libxcb-icccm4 libxcb-image0 libxcb-k
 	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3
 XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
-.PHONY: test run bench setup system-deps clean
+.PHONY: test test-full run bench setup system-deps clean
 
+# The default suite: every test but the slow parts of the robot and start sweeps.
 test: setup
 	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q
+	$(XVFB) $(PY) -m pytest -q -m window
+
+# Everything, the full sweeps included.
+test-full: setup
+	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -m "not window"
 	$(XVFB) $(PY) -m pytest -q -m window
 
 run: setup
@@ -29,6 +35,7 @@ setup: system-deps $(STAMP)
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --disable-pip-version-check -e '.[test]'
+	rm -rf build *.egg-info  # setuptools' build droppings: the source tree stays as cloned
 	touch $(STAMP)
 
 # Installs missing Debian packages with apt-get as root or through passwordless sudo;
@@ -45,4 +52,4 @@ system-deps:
 	$$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null
 
 clean:
-	rm -rf $(VENV) *.egg-info .pytest_cache
+	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -1,6 +1,5 @@
 """Entry point of the checkout: re-exports the public names of :mod:`robot_sim.kinematics`."""
 from robot_sim.kinematics import (  # noqa: F401
-    FloatArray,
     CHUNK,
     cos_sin_half,
     forward_kinematics,
@@ -20,7 +19,6 @@ from robot_sim.kinematics import (  # noqa: F401
     diff_ik_velocity,
 )
 __all__ = [
-    "FloatArray",
     "CHUNK",
     "cos_sin_half",
     "forward_kinematics",

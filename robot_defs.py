@@ -7,6 +7,8 @@ from robot_sim.model.params import (  # noqa: F401
     CONVENTION_MODIFIED,
     CONVENTIONS,
     DEFAULT_COM_FRACTION,
+    LINK_SHAPE_TYPES,
+    LinkShape,
     RobotDefinitionError,
     RobotParams,
 )
@@ -17,9 +19,7 @@ from robot_sim.io.robot_file import (  # noqa: F401
     REQUIRED_TOP_KEYS,
     JOINT_KEYS,
     DH_KEYS,
-    FRAME_KEYS,
     CONTROL_KEYS,
-    MAX_LENGTH,
     MAX_ANGLE_DEG,
     MAX_JOINTS,
     MAX_FILE_BYTES,
@@ -30,7 +30,6 @@ from robot_sim.io.robot_file import (  # noqa: F401
     check_bounds,
     read_toml,
     parse_robot,
-    LENGTH_BOUND,
     ANGLE_BOUNDS,
 )
 __all__ = [
@@ -41,6 +40,8 @@ __all__ = [
     "CONVENTION_MODIFIED",
     "CONVENTIONS",
     "DEFAULT_COM_FRACTION",
+    "LINK_SHAPE_TYPES",
+    "LinkShape",
     "RobotDefinitionError",
     "RobotParams",
     "ROBOTS_DIR",
@@ -49,9 +50,7 @@ __all__ = [
     "REQUIRED_TOP_KEYS",
     "JOINT_KEYS",
     "DH_KEYS",
-    "FRAME_KEYS",
     "CONTROL_KEYS",
-    "MAX_LENGTH",
     "MAX_ANGLE_DEG",
     "MAX_JOINTS",
     "MAX_FILE_BYTES",
@@ -62,6 +61,5 @@ __all__ = [
     "check_bounds",
     "read_toml",
     "parse_robot",
-    "LENGTH_BOUND",
     "ANGLE_BOUNDS",
 ]

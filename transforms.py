@@ -1,6 +1,5 @@
 """Entry point of the checkout: re-exports the public names of :mod:`robot_sim.transforms`."""
 from robot_sim.transforms import (  # noqa: F401
-    FloatArray,
     EPS_NORM,
     rot_x,
     rot_y,
@@ -17,7 +16,6 @@ from robot_sim.transforms import (  # noqa: F401
     HomogeneousTransform,
 )
 __all__ = [
-    "FloatArray",
     "EPS_NORM",
     "rot_x",
     "rot_y",

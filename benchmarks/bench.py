@@ -12,14 +12,12 @@ import argparse
 import math
 import os
 import platform
-import statistics
 import subprocess
 import sys
 import tempfile
 import time
 import tracemalloc
 from pathlib import Path
-from typing import Callable
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -43,32 +41,12 @@ from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
 from robot_sim.model.state import RobotState  # noqa: E402
 import bench_sim  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
+from timing import Table, measure, median_iqr, ms, us  # noqa: E402
 
 ROBOT = "humanoid7"
 IK_TARGETS = 200
 CLOUD_POINTS = 200_000
 FRAME_SIZE = (800, 600)
-
-
-# ----------------------------------------------------------------------------- timing
-
-
-def measure(fn: Callable[[], object], repeats: int, number: int = 1) -> list[float]:
-    """Seconds per call of ``fn`` for each of ``repeats`` runs of ``number`` calls."""
-    fn()  # warm caches, lazy imports and GL resources
-    samples = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(number):
-            fn()
-        samples.append((time.perf_counter() - start) / number)
-    return samples
-
-
-def median_iqr(samples: list[float]) -> tuple[float, float]:
-    """Median and interquartile range of the samples."""
-    q1, med, q3 = np.percentile(samples, [25, 50, 75])
-    return float(med), float(q3 - q1)
 
 
 # ----------------------------------------------------------------------------- baseline
@@ -93,7 +71,7 @@ def naive_fk(robot: RobotParams, q: np.ndarray) -> list[np.ndarray]:
         theta = robot.dh_th[i] + (q[i] if revolute else 0.0)
         d = robot.dh_d[i] + (0.0 if revolute else q[i])
         frames.append(frames[-1] @ naive_dh(theta, d, robot.dh_a[i], robot.dh_alpha[i]))
-    frames.append(frames[-1] @ robot.endeff_tf.mat)
+    frames.append(frames[-1] @ robot.tool_tf.mat)
     return frames
 
 
@@ -127,32 +105,6 @@ def naive_ik(robot: RobotParams, target: np.ndarray, iters: int = 100) -> bool:
 
 
 # ----------------------------------------------------------------------------- rows
-
-
-class Table:
-    def __init__(self) -> None:
-        self.rows: list[tuple[str, str, str, str, str, str]] = []
-
-    def add(self, what: str, value: str, spread: str, baseline: str = "—", ratio: str = "—", target: str = "—") -> None:
-        self.rows.append((what, value, spread, baseline, ratio, target))
-        print(f"  {what}: {value} (±{spread})", file=sys.stderr, flush=True)
-
-    def print(self) -> None:
-        head = ("measurement", "median", "IQR", "per-link NumPy baseline", "speed-up", "target")
-        widths = [max(len(r[i]) for r in self.rows + [head]) for i in range(len(head))]
-        line = lambda r: "| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |"  # noqa: E731
-        print(line(head))
-        print("|" + "|".join("-" * (w + 2) for w in widths) + "|")
-        for r in self.rows:
-            print(line(r))
-
-
-def us(x: float) -> str:
-    return f"{x * 1e6:.3g} µs"
-
-
-def ms(x: float) -> str:
-    return f"{x * 1e3:.3g} ms"
 
 
 def bench_fk(table: Table, robot: RobotParams, rng: np.random.Generator) -> None:
@@ -243,7 +195,7 @@ def limited_humanoid() -> RobotParams:
     h = load_robot("humanoid7")
     return RobotParams.from_arrays(
         "humanoid7 with ±90° limits", h.dh_a, h.dh_alpha, h.dh_d, h.dh_th, h.jtype,
-        q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2), base_tf=h.base_tf, endeff_tf=h.endeff_tf,
+        q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2), base_tf=h.base_tf, tool_tf=h.tool_tf,
     )
 
 

@@ -83,8 +83,8 @@ def bench_simulation(table: Any, measure: Callable[..., list[float]], median_iqr
 
 
 if __name__ == "__main__":
-    import bench
+    import timing
 
-    rows = bench.Table()
-    bench_simulation(rows, bench.measure, bench.median_iqr, bench.us)
+    rows = timing.Table()
+    bench_simulation(rows, timing.measure, timing.median_iqr, timing.us)
     rows.print()

@@ -45,13 +45,13 @@ def humanoid_90() -> tuple[RobotParams, rtb.DHRobot]:
     h = load_robot("humanoid7")
     ours = RobotParams.from_arrays(
         "humanoid7 ±90°", h.dh_a, h.dh_alpha, h.dh_d, h.dh_th, h.jtype,
-        q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2), base_tf=h.base_tf, endeff_tf=h.endeff_tf,
+        q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2), base_tf=h.base_tf, tool_tf=h.tool_tf,
     )
     links = [
         rtb.RevoluteDH(d=d, a=a, alpha=al, offset=th, qlim=[-np.pi / 2, np.pi / 2])
         for a, al, d, th in zip(h.dh_a, h.dh_alpha, h.dh_d, h.dh_th)
     ]
-    theirs = rtb.DHRobot(links, base=SE3(h.base_tf.mat), tool=SE3(h.endeff_tf.mat), name=ours.name)
+    theirs = rtb.DHRobot(links, base=SE3(h.base_tf.mat), tool=SE3(h.tool_tf.mat), name=ours.name)
     return ours, theirs
 
 

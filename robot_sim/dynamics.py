@@ -1,6 +1,6 @@
 """Rigid-body dynamics of DH serial chains, for one configuration or a batch.
 
-Every function takes a :class:`~robot_defs.RobotParams` with inertial data and joint
+Every function takes a :class:`~robot_sim.model.params.RobotParams` with inertial data and joint
 vectors of shape (n,) or (N, n) (batched without a per-configuration Python loop: the
 kernels walk the chain joint by joint on arrays of configurations).
 

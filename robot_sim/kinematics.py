@@ -8,7 +8,7 @@ Frames and units
   holds a_{i-1}, α_{i-1}), and joint i turns (or slides) about z of frame i.
 * Frame 0 in the world is ``world_tf @ robot.base_tf`` (``world_tf`` is where the robot
   stands, identity by default); frame i = frame 0 · A_1 ⋯ A_i.  The endeffector (tool)
-  frame is frame n · ``robot.endeff_tf``.
+  frame is frame n · ``robot.tool_tf``.
 * Joint vector q: radians for revolute joints, metres for prismatic ones.
 * Twists and Jacobians are stacked ``[linear velocity (m/s); angular velocity (rad/s)]``
   and expressed in the world frame, the linear part at the endeffector origin.
@@ -104,7 +104,7 @@ class _ChainModel:
         self.ct_const = np.cos(robot.dh_th)
         self.st_const = np.sin(robot.dh_th)
         self.half_th = 0.5 * robot.dh_th
-        tool = robot.endeff_tf.mat
+        tool = robot.tool_tf.mat
         self.tool = tool
         self.tool_rotates = not np.allclose(tool[:3, :3], np.eye(3), atol=0.0, rtol=0.0)
         self.tool_translates = bool(np.any(tool[:3, 3] != 0.0))
@@ -687,15 +687,10 @@ def _target_matrix(target: HomogeneousTransform | ArrayLike) -> FloatArray:
 
 
 def characteristic_length(robot: RobotParams) -> float:
-    """A length [m] that scales with the robot: the sum of |a| and |d| over the joints,
-    the tool offset and the travel of limited prismatic joints (1 m if all are zero).
+    """A length [m] that scales with the robot: :attr:`RobotParams.size` (1 m if it is zero).
     Inverse kinematics divides position errors by it, so its iterations are the same for
     a robot and any scaled copy of it."""
-    prismatic = robot.jtype != JTYPE_REVOLUTE
-    travel = np.where(prismatic & np.isfinite(robot.q_min) & np.isfinite(robot.q_max), robot.q_max - robot.q_min, 0.0)
-    length = float(
-        np.abs(robot.dh_a).sum() + np.abs(robot.dh_d).sum() + np.linalg.norm(robot.endeff_tf.mat[:3, 3]) + travel.sum()
-    )
+    length = robot.size
     return length if 0.0 < length < math.inf else 1.0
 
 

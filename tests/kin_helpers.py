@@ -10,9 +10,10 @@ shipped robots in the convention of their file and converted to the other one
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
+import pytest
 
 from robot_sim.model.convert import to_convention
 from robot_sim.model.inertials import LinkInertials
@@ -22,6 +23,16 @@ from robot_sim.transforms import HomogeneousTransform
 
 #: Every robot shipped in robots/.
 ROBOT_NAMES = available_robots()
+
+#: Robots every robot-sweeping test runs on by default; the rest of a sweep is marked
+#: ``slow`` and runs in ``make test-full`` (the default ``make test`` stays short).
+DEFAULT_SWEEP = ("ur5", "panda", "humanoid7", "puma560", "stanford", "planar3")
+
+
+def sweep(names: Sequence[str], keep: Sequence[str] = DEFAULT_SWEEP) -> list:
+    """pytest parameters for ``names``: those in ``keep`` as they are, the others marked slow."""
+    return [name if name in keep else pytest.param(name, marks=pytest.mark.slow) for name in names]
+
 
 #: Both DH conventions, for parametrising kinematic tests.
 CONVENTIONS = ("standard", "modified")
@@ -76,7 +87,7 @@ def hand_chain(rob: RobotParams, q: np.ndarray, world: np.ndarray | None = None)
         d = rob.dh_d[i] + (0.0 if revolute else q[i])
         frame = frame @ dh_by_hand(theta, d, rob.dh_a[i], rob.dh_alpha[i], rob.convention)
         frames.append(frame)
-    frames.append(frame @ rob.endeff_tf.mat)
+    frames.append(frame @ rob.tool_tf.mat)
     return frames
 
 
@@ -150,7 +161,7 @@ def random_dh_robot(
         jtype=jtype,
         link_com_frac=rng.random(n),
         base_tf=HomogeneousTransform(random_rigid(rng)) if base_and_tool else None,
-        endeff_tf=HomogeneousTransform(random_rigid(rng, 0.2)) if base_and_tool else None,
+        tool_tf=HomogeneousTransform(random_rigid(rng, 0.2)) if base_and_tool else None,
         convention=convention,
     )
 

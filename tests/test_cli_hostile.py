@@ -39,11 +39,12 @@ def one_line_error(result: subprocess.CompletedProcess[str] | tuple[int, str]) -
 
 def main_unprivileged(*args: str) -> tuple[int, str]:
     """``simulator.main(args)`` in a child process running as user nobody (root would
-    read and enter everything); returns (exit status, stderr)."""
+    read and enter everything); returns (exit status, stderr).  The program is imported
+    here, before the fork: the checkout and its .venv may sit in a directory nobody cannot
+    enter (a private clone run as root), so the child must not need to read them."""
+    import simulator
 
     def body() -> list:
-        import simulator
-
         err = io.StringIO()
         with contextlib.redirect_stderr(err):
             code = simulator.main(list(args))
@@ -55,9 +56,13 @@ def main_unprivileged(*args: str) -> tuple[int, str]:
 
 @pytest.fixture()
 def shared_dir():
-    """A temporary directory that user nobody may enter (pytest's tmp_path may not be)."""
+    """A temporary directory that user nobody may enter (pytest's tmp_path may not be),
+    holding a copy of a shipped robot file nobody may read (robots/ may not be)."""
     with tempfile.TemporaryDirectory() as folder:
         os.chmod(folder, 0o777)
+        robot = Path(folder) / "robot.toml"
+        robot.write_text((ROBOTS_DIR / "planar3.toml").read_text())
+        robot.chmod(0o644)
         yield Path(folder)
 
 
@@ -105,7 +110,7 @@ def test_screenshot_into_a_directory_that_cannot_be_entered(shared_dir):
     locked.mkdir(mode=0o000)
     locked.chmod(0o000)
     target = locked / "shot.png"
-    line = one_line_error(main_unprivileged("--screenshot", str(target)))
+    line = one_line_error(main_unprivileged("--robot", str(shared_dir / "robot.toml"), "--screenshot", str(target)))
     assert line == f"robot-sim: error: --screenshot: cannot write '{target}': Permission denied"
 
 
@@ -114,7 +119,7 @@ def test_screenshot_into_a_directory_that_cannot_be_written(shared_dir):
     readonly.mkdir()
     readonly.chmod(0o555)
     target = readonly / "shot.png"
-    line = one_line_error(main_unprivileged("--screenshot", str(target)))
+    line = one_line_error(main_unprivileged("--robot", str(shared_dir / "robot.toml"), "--screenshot", str(target)))
     assert line == f"robot-sim: error: --screenshot: cannot write '{target}': Permission denied"
     assert list(readonly.iterdir()) == []
 

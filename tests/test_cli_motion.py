@@ -11,7 +11,7 @@ from robot_sim.app.cli import build_parser, config_from_args, session_from_confi
 from robot_sim.control.controllers import control_gains
 from kin_helpers import robot
 from robot_sim.kinematics import forward_kinematics
-from test_cli import assert_one_line_error, read_png, run
+from cli_helpers import assert_one_line_error, read_png, run
 
 
 def _session(*args: str):

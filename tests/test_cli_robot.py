@@ -13,7 +13,7 @@ from robot_sim.app.robot_cmds import dh_table_text, export
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_q, robot
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.io.robot_file import load_robot
-from test_cli import assert_one_line_error, run
+from cli_helpers import assert_one_line_error, run
 from urdf_helpers import parse, urdf_fk
 
 DATA = Path(__file__).parent / "data"

@@ -36,7 +36,7 @@ def panda() -> RobotParams:
     a, d, alpha = (np.array(col) for col in zip(*PANDA_TABLE))
     return RobotParams.from_arrays(
         "panda", a, alpha, d, np.zeros(7), [JTYPE_REVOLUTE] * 7,
-        endeff_tf=HomogeneousTransform(h_trans(z=PANDA_FLANGE_D)), convention="modified",
+        tool_tf=HomogeneousTransform(h_trans(z=PANDA_FLANGE_D)), convention="modified",
     )
 
 
@@ -90,7 +90,7 @@ def standard_equivalent_by_hand(rob: RobotParams) -> RobotParams:
     base = rob.base_tf.mat @ h_rot_x(rob.dh_alpha[0]) @ h_trans(x=rob.dh_a[0])
     return RobotParams.from_arrays(
         "std", a, alpha, rob.dh_d, rob.dh_th, rob.jtype,
-        base_tf=HomogeneousTransform(base), endeff_tf=rob.endeff_tf,
+        base_tf=HomogeneousTransform(base), tool_tf=rob.tool_tf,
     )
 
 
@@ -139,12 +139,12 @@ def test_conversion_maps_the_columns_and_absorbs_into_base_and_tool():
     mod = to_modified(rob)
     np.testing.assert_array_equal(mod.dh_a, [0.0, 0.3])
     np.testing.assert_array_equal(mod.dh_alpha, [0.0, 0.5])
-    np.testing.assert_allclose(mod.endeff_tf.mat, h_trans(x=0.4) @ h_rot_x(-0.6), atol=1e-15)
+    np.testing.assert_allclose(mod.tool_tf.mat, h_trans(x=0.4) @ h_rot_x(-0.6), atol=1e-15)
     np.testing.assert_array_equal(mod.base_tf.mat, np.eye(4))
     assert to_modified(mod) is mod and to_standard(rob) is rob
     std = to_standard(mod)
     np.testing.assert_array_equal(std.dh_a, [0.3, 0.0])  # the tool keeps the last a, α
-    np.testing.assert_allclose(std.endeff_tf.mat, mod.endeff_tf.mat, atol=0)
+    np.testing.assert_allclose(std.tool_tf.mat, mod.tool_tf.mat, atol=0)
     with pytest.raises(ValueError, match="convention must be 'standard' or 'modified', got 'dh'"):
         to_convention(rob, "dh")
 

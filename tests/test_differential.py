@@ -270,7 +270,7 @@ def test_workspace_points_lie_in_the_reachable_sets():
     # scara: height = d1 − d3 − tool within the quill range, radius within the link lengths
     scara = robot("scara")
     points, _ = workspace_points(scara, 1500, seed=2)
-    d1, tool = scara.dh_d[0], scara.endeff_tf.t()[2]
+    d1, tool = scara.dh_d[0], scara.tool_tf.t()[2]
     lo, hi = scara.q_min[2], scara.q_max[2]
     assert np.all(points[:, 2] <= d1 - lo - tool + 1e-12) and np.all(points[:, 2] >= d1 - hi - tool - 1e-12)
     a1, a2 = scara.dh_a[:2]

@@ -194,7 +194,7 @@ def test_random_chains_match_elementary_product(conv, seed, n):
     # frame 0 is the base, the last entry is the endeffector = frame n · tool
     np.testing.assert_allclose(frames[:, 0], np.broadcast_to(rob.base_tf.mat, (12, 4, 4)), atol=1e-15)
     np.testing.assert_allclose(frames[:, -1], batch, atol=1e-12)
-    np.testing.assert_allclose(frames[:, -1], frames[:, -2] @ rob.endeff_tf.mat, atol=1e-12)
+    np.testing.assert_allclose(frames[:, -1], frames[:, -2] @ rob.tool_tf.mat, atol=1e-12)
 
 
 @pytest.mark.parametrize("conv", CONVENTIONS)
@@ -205,7 +205,7 @@ def test_base_tool_and_world_compose_as_stated(conv, seed, n):
     rob = random_dh_robot(rng, n, convention=conv)
     bare = RobotParams.from_arrays("bare", rob.dh_a, rob.dh_alpha, rob.dh_d, rob.dh_th, rob.jtype, convention=conv)
     Q = random_q(rob, rng, 6)
-    B, tool = rob.base_tf.mat, rob.endeff_tf.mat
+    B, tool = rob.base_tf.mat, rob.tool_tf.mat
     W = random_rigid(rng, 2.0)
     with_all = forward_kinematics(rob, Q)
     np.testing.assert_allclose(with_all, B @ forward_kinematics(bare, Q) @ tool, atol=1e-12)

@@ -21,7 +21,7 @@ def limited_humanoid() -> RobotParams:
     return RobotParams.from_arrays(
         "humanoid7 ±90°", h.dh_a, h.dh_alpha, h.dh_d, h.dh_th, h.jtype,
         q_min=np.full(7, -np.pi / 2), q_max=np.full(7, np.pi / 2),
-        base_tf=h.base_tf, endeff_tf=h.endeff_tf,
+        base_tf=h.base_tf, tool_tf=h.tool_tf,
     )
 
 

@@ -42,7 +42,7 @@ def scaled(robot: RobotParams, s: float) -> RobotParams:
         f"{robot.name} x{s:g}", robot.dh_a * s, robot.dh_alpha, robot.dh_d * s, robot.dh_th, robot.jtype,
         q_home=robot.q_home * f, q_min=robot.q_min * f, q_max=robot.q_max * f,
         link_com_frac=robot.link_com_frac, base_tf=scale_tf(robot.base_tf),
-        endeff_tf=scale_tf(robot.endeff_tf), convention=robot.convention,
+        tool_tf=scale_tf(robot.tool_tf), convention=robot.convention,
     )
 
 

@@ -12,7 +12,7 @@ from robot_sim.viewer import recording
 from robot_sim.graphics.items.task import gripper_placements
 from kin_helpers import robot
 from robot_sim.planning.pick_task import default_plan
-from test_cli import assert_one_line_error, read_png, run
+from cli_helpers import assert_one_line_error, read_png, run
 from robot_sim.viewer.session import ViewerSession
 
 W, H = 640, 480

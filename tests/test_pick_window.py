@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robot_sim.graphics import defs as gd
-from test_window import app, open_window  # noqa: F401 - the QApplication fixture
+from robot_sim.qt import settings as qs
+from window_helpers import app, open_window  # noqa: F401 - the QApplication fixture
 
 from PyQt5.QtGui import QColor, QImage  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
@@ -44,7 +44,7 @@ def test_plot_dock_shows_the_trajectory(pick_window):
     pixels = np.frombuffer(image.constBits().asstring(image.byteCount()), np.uint8)
     pixels = pixels.reshape(image.height(), image.bytesPerLine())[:, : 3 * image.width()].reshape(image.height(), -1, 3)
     for j in range(traj.n_dofs):
-        rgb = QColor(gd.PLOT_JOINT_COLORS[j]).getRgb()[:3]
+        rgb = QColor(qs.PLOT_JOINT_COLORS[j]).getRgb()[:3]
         assert np.count_nonzero(np.all(np.abs(pixels.astype(int) - rgb) <= 40, axis=2)) > 20, f"joint {j + 1}"
 
 
@@ -54,7 +54,7 @@ def test_slider_scrubs_the_scene_and_moves_the_cursor(pick_window):
     win.timer.stop()
     demo.playing = False
     t = demo.plan.phase_times()["transport"] + 0.3
-    win.pick_panel.slider.setValue(round(t * gd.PICK_SLIDER_TICKS_PER_S))
+    win.pick_panel.slider.setValue(round(t * qs.PICK_SLIDER_TICKS_PER_S))
     assert demo.time == pytest.approx(t, abs=1e-3)
     np.testing.assert_allclose(win.session.state.q(), demo.plan.state_at(demo.time).q, atol=1e-12)
     assert win.plot_dock.cursors["q"].value() == pytest.approx(demo.time)

@@ -81,7 +81,7 @@ def test_shipped_values_are_converted_to_si():
     assert stanford.q_home[2] == 0.5
     np.testing.assert_allclose([stanford.q_min[2], stanford.q_max[2]], [0.3048, 1.27])
     humanoid = load_robot("humanoid7")
-    np.testing.assert_allclose(humanoid.endeff_tf.mat, _translation(0, 0, 0.05))
+    np.testing.assert_allclose(humanoid.tool_tf.mat, _translation(0, 0, 0.05))
     assert humanoid.has_tool and not puma.has_tool
 
 
@@ -100,7 +100,7 @@ def test_load_by_name_and_by_path_agree(tmp_path):
         assert other.name == by_name.name
         for field in ("dh_a", "dh_alpha", "dh_d", "dh_th", "jtype", "q_home", "q_min", "q_max", "link_com_frac"):
             np.testing.assert_array_equal(getattr(other, field), getattr(by_name, field))
-        np.testing.assert_array_equal(other.endeff_tf.mat, by_name.endeff_tf.mat)
+        np.testing.assert_array_equal(other.tool_tf.mat, by_name.tool_tf.mat)
     assert load_robot(copy).source == str(copy)
 
 
@@ -143,7 +143,7 @@ def test_units_deg_and_rad_give_equal_arrays(tmp_path):
     for field in ("dh_a", "dh_alpha", "dh_d", "dh_th", "jtype", "q_home", "q_min", "q_max", "link_com_frac"):
         np.testing.assert_allclose(getattr(deg, field), getattr(rad, field), rtol=1e-15, atol=0, err_msg=field)
     np.testing.assert_allclose(deg.base_tf.mat, rad.base_tf.mat, atol=1e-15)
-    np.testing.assert_allclose(deg.endeff_tf.mat, rad.endeff_tf.mat, atol=1e-15)
+    np.testing.assert_allclose(deg.tool_tf.mat, rad.tool_tf.mat, atol=1e-15)
     # and the values are the SI numbers themselves
     np.testing.assert_allclose(deg.dh_alpha, np.array([90, -90, 180]) * DEG)
     np.testing.assert_allclose(deg.q_home, [45 * DEG, 0.4, 0.0])
@@ -160,7 +160,7 @@ def test_base_and_tool_tables_follow_urdf_rpy(tmp_path):
     np.testing.assert_allclose(rob.base_tf.mat, base, atol=1e-15)
     tool = _translation(0, 0, 0.12)
     tool[:3, :3] = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]
-    np.testing.assert_allclose(rob.endeff_tf.mat, tool, atol=1e-15)
+    np.testing.assert_allclose(rob.tool_tf.mat, tool, atol=1e-15)
     assert rob.has_tool
     # xyz or rpy alone: the other defaults to zero
     only_rpy = load_robot(robot_file(tmp_path, tables="[base]\nrpy = [0.0, 0.0, 90.0]\n", name="r.toml"))
@@ -174,7 +174,7 @@ def test_defaults(tmp_path):
     np.testing.assert_array_equal(rob.q_max, [np.inf, np.inf])
     np.testing.assert_array_equal(rob.link_com_frac, [0.5, 0.5])
     np.testing.assert_array_equal(rob.base_tf.mat, np.eye(4))
-    np.testing.assert_array_equal(rob.endeff_tf.mat, np.eye(4))
+    np.testing.assert_array_equal(rob.tool_tf.mat, np.eye(4))
     assert not rob.has_tool
     assert rob.description == ""
     assert rob.convention == "standard" and not rob.is_modified

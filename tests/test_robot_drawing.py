@@ -21,7 +21,7 @@ from robot_sim.graphics import defs as gd  # noqa: E402
 from robot_sim.kinematics import forward_kinematics  # noqa: E402
 from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
-from test_render import (  # noqa: E402
+from render_helpers import (  # noqa: E402
     DEG,
     Frames,
     along,

@@ -218,7 +218,7 @@ def test_published_inertials_are_physical(name):
     assert li is not None and not li.estimated
     n = rob.n_dofs
     assert li.mass.shape == (n,) and np.all(li.mass > 0.0)
-    size = float(np.abs(rob.dh_a).sum() + np.abs(rob.dh_d).sum() + np.linalg.norm(rob.endeff_tf.t()))
+    size = float(np.abs(rob.dh_a).sum() + np.abs(rob.dh_d).sum() + np.linalg.norm(rob.tool_tf.t()))
     for i in range(n):
         inertia = li.inertia[i]
         np.testing.assert_array_equal(inertia, inertia.T)

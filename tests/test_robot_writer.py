@@ -36,7 +36,7 @@ def assert_same_robot(a: RobotParams, b: RobotParams, tf_atol: float = 0.0) -> N
         assert np.array_equal(getattr(a, field), getattr(b, field)), field
     assert a.name == b.name and a.description == b.description and a.convention == b.convention
     np.testing.assert_allclose(a.base_tf.mat, b.base_tf.mat, rtol=0, atol=tf_atol)
-    np.testing.assert_allclose(a.endeff_tf.mat, b.endeff_tf.mat, rtol=0, atol=tf_atol)
+    np.testing.assert_allclose(a.tool_tf.mat, b.tool_tf.mat, rtol=0, atol=tf_atol)
     for table, fields in (("inertials", ("mass", "com", "inertia")), ("drives", DRIVE_ARRAYS)):
         assert (getattr(a, table) is None) == (getattr(b, table) is None), table
         for field in fields if getattr(a, table) is not None else ():
@@ -74,7 +74,7 @@ def test_a_programmatic_robot_with_base_tool_limits_and_com_round_trips(tmp_path
         q_home=[0.1, -0.2, 0.05], q_min=[-1.0, -2.0, 0.0], q_max=[1.0, 2.0, 0.3],
         link_com_frac=[0.5, 0.25, 1.0],
         base_tf=HomogeneousTransform.from_xyz_rpy([0.1, -0.2, 0.5], [0.3, -0.2, 1.1]),
-        endeff_tf=HomogeneousTransform.from_xyz_rpy([0.0, 0.0, 0.12], [0.0, DEG * 90, 0.0]),
+        tool_tf=HomogeneousTransform.from_xyz_rpy([0.0, 0.0, 0.12], [0.0, DEG * 90, 0.0]),
     )
     back = load_text(tmp_path, to_toml(made))
     # rpy goes through atan2 and degrees: the transforms agree to rounding

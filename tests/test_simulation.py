@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from robot_sim import dynamics
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim.control.controllers import PD, ComputedTorque, Controller, Gains, PDGravity, control_gains
 from robot_sim.model.inertials import Drives
-from kin_helpers import ROBOT_NAMES, robot
+from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim.kinematics import forward_kinematics, jacobian
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import load_robot
@@ -231,7 +231,7 @@ def test_divergence_stops_and_keeps_the_last_finite_state():
     assert sim.step(10) == 0 and sim.time == last[2]
 
 
-@pytest.mark.parametrize("name", ROBOT_NAMES)
+@pytest.mark.parametrize("name", sweep(ROBOT_NAMES))
 def test_every_shipped_robot_simulates_2_seconds_passive(name):
     rob = robot(name)
     sim = Simulation(rob)
@@ -314,12 +314,12 @@ def test_computed_torque_tracks_the_circle_demo(name: str, bound_m: float) -> No
     session.set_motion("ct")
     session.toggle_demo()
     errors = []
-    for _ in range(round(2 * gd.DEMO_CIRCLE_PERIOD_S / 0.01)):
+    for _ in range(round(2 * vs.DEMO_CIRCLE_PERIOD_S / 0.01)):
         session.step(0.01)
         point, _ = session.demo.point_and_velocity()
         errors.append(np.linalg.norm(session.kin.endeff_tf.t() - point))
     assert session.motion.sim.stopped is None
-    assert session.motion.sim.time == pytest.approx(2 * gd.DEMO_CIRCLE_PERIOD_S, abs=1e-9)
+    assert session.motion.sim.time == pytest.approx(2 * vs.DEMO_CIRCLE_PERIOD_S, abs=1e-9)
     assert max(errors) < bound_m, f"{name}: {max(errors) * 1000:.2f} mm"
 
 

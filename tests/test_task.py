@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from kin_helpers import ROBOT_NAMES, robot
+from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.planning.pick_task import GRIPPER_CLEARANCE, PHASES, TaskError, default_plan, plan_pick
 from robot_sim.planning.task_file import TaskDefinitionError, load_task, task_toml
@@ -17,7 +17,7 @@ def test_there_are_six_and_seven_dof_robots():
     assert {robot(n).n_dofs for n in ARMS} >= {6, 7}
 
 
-@pytest.mark.parametrize("name", ARMS)
+@pytest.mark.parametrize("name", sweep(ARMS))
 def test_default_pick_places_the_object_within_1mm(name):
     arm = robot(name)
     plan = default_plan(arm)

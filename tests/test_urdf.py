@@ -175,7 +175,7 @@ def test_a_ros_style_ur5_is_the_shipped_ur5_turned_about_z():
     np.testing.assert_allclose(rob.dh_a, [0.0, 0.425, 0.39225, 0.0, 0.0, 0.0], atol=1e-15)
     np.testing.assert_allclose(rob.dh_d, [0.0, 0.0, 0.0, 0.10915, 0.09465, 0.0], atol=1e-15)
     np.testing.assert_allclose(rob.base_tf.t(), [0.0, 0.0, 0.089159], atol=1e-15)
-    np.testing.assert_allclose(rob.endeff_tf.t(), [0.0, 0.0, 0.0823], atol=1e-15)
+    np.testing.assert_allclose(rob.tool_tf.t(), [0.0, 0.0, 0.0823], atol=1e-15)
 
 
 def test_parallel_and_coincident_axes_give_their_dh_values():

@@ -16,6 +16,7 @@ from robot_sim.graphics import defs as gd  # noqa: E402
 from robot_sim.kinematics import Kinematics  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
 from robot_sim.model.state import RobotState  # noqa: E402
+from robot_sim.qt import settings as qs
 
 W, H = 320, 240
 
@@ -45,7 +46,7 @@ def planar_kinematics() -> Kinematics:
 )
 def test_view_presets_put_the_eye_on_the_named_side(preset, direction):
     camera = go.Camera(distance=2.0, azimuth_deg=10.0, elevation_deg=20.0, target=[0.1, 0.2, 0.3])
-    camera.set_view(*gd.VIEW_PRESETS[preset])
+    camera.set_view(*qs.VIEW_PRESETS[preset])
     expected = np.asarray(direction) / np.linalg.norm(direction)
     np.testing.assert_allclose((camera.eye() - camera.target) / camera.distance, expected, atol=1e-9)
     np.testing.assert_array_equal(camera.target, [0.1, 0.2, 0.3])
@@ -54,7 +55,7 @@ def test_view_presets_put_the_eye_on_the_named_side(preset, direction):
 
 def test_top_view_looks_down_with_x_right_and_y_up():
     camera = go.Camera()
-    camera.set_view(*gd.VIEW_PRESETS["top"])
+    camera.set_view(*qs.VIEW_PRESETS["top"])
     view_dir = (camera.target - camera.eye()) / camera.distance
     assert math.degrees(math.acos(-view_dir[2])) <= 90.0 - gd.CAMERA_MAX_ELEVATION_DEG + 1e-9
     right, up = camera.view_plane_axes()
@@ -83,7 +84,7 @@ def test_orthographic_projection_is_parallel_at_the_scale_of_the_target_plane():
 def test_orthographic_render_draws_the_endeffector_where_project_puts_it(renderer):
     kin = planar_kinematics()
     camera = go.Camera(orthographic=True)
-    camera.set_view(*gd.VIEW_PRESETS["top"])
+    camera.set_view(*qs.VIEW_PRESETS["top"])
     camera.fit(np.vstack([[tf.t() for tf in kin.h_tf], kin.endeff_tf.t()]), W / H)
     image = renderer.render(camera, go.Scene(kin), go.GraphicsOptions(kin.robot.n_dofs + 1))
     x, y = np.round(camera.project(kin.endeff_tf.t()[None], W, H)[0]).astype(int)
@@ -94,7 +95,7 @@ def test_orthographic_render_draws_the_endeffector_where_project_puts_it(rendere
 def test_trail_is_drawn_as_a_line_of_its_colour_through_its_points(renderer):
     kin = planar_kinematics()
     camera = go.Camera()
-    camera.set_view(*gd.VIEW_PRESETS["iso"])
+    camera.set_view(*qs.VIEW_PRESETS["iso"])
     reach = go.robot_reach(kin.robot)
     # a square path beside the arm, 0.2 reach above the ground
     corners = reach * np.array([[0.5, -0.8, 0.2], [0.9, -0.8, 0.2], [0.9, -0.4, 0.2], [0.5, -0.4, 0.2], [0.5, -0.8, 0.2]])

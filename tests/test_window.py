@@ -12,135 +12,44 @@ import dataclasses
 import math
 import os
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 import numpy as np
 import pytest
 
 from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
+from robot_sim.viewer import settings as vs
 from robot_sim import graphics as graphics_objects
-from robot_sim.app import cli
-import simulator
 
 if "OpenGL.platform" not in __import__("sys").modules:
     os.environ.pop("PYOPENGL_PLATFORM", None)  # the window needs GLX, not OSMesa
 
-from PyQt5.QtCore import QEvent, QPoint, Qt  # noqa: E402
-from PyQt5.QtGui import QImage, QMouseEvent, QWheelEvent  # noqa: E402
+from PyQt5.QtCore import QPoint, Qt  # noqa: E402
+from PyQt5.QtGui import QWheelEvent  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication, QSlider  # noqa: E402
 
-from robot_sim.qt import window as viewer_window  # noqa: E402
 from robot_sim.qt.overlays import help_lines  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def app() -> QApplication:
-    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        pytest.fail("window tests need an X display: run them with xvfb-run (make test)")
-    return QApplication.instance() or QApplication(["robot-sim-test"])
-
-
-def open_window(app: QApplication, *args: str) -> Any:
-    config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "900x640", *args]))
-    window = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
-    window.show()
-    window.activateWindow()
-    window.view.setFocus()
-    assert QTest.qWaitForWindowActive(window)
-    return window
-
-
-@pytest.fixture
-def window(app: QApplication) -> Iterator[Any]:
-    win = open_window(app)
-    yield win
-    win.close()
-    win.deleteLater()
-
-
-def grab(win: Any) -> np.ndarray:
-    """The GL widget's picture (H, W, 4) RGBA, repainted now."""
-    image = win.view.grabFramebuffer().convertToFormat(QImage.Format_RGBA8888)
-    bits = image.constBits()
-    bits.setsize(image.byteCount())
-    return np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine() // 4, 4)[:, : image.width()].copy()
-
-
-def grab_window(win: Any) -> np.ndarray:
-    """The whole window with its child widgets (the help overlay), (H, W, 4) RGBA."""
-    image = win.grab().toImage().convertToFormat(QImage.Format_RGBA8888)
-    bits = image.constBits()
-    bits.setsize(image.byteCount())
-    return np.frombuffer(bits, np.uint8).reshape(image.height(), image.bytesPerLine() // 4, 4)[:, : image.width()].copy()
-
-
-def press(app: QApplication, key: int, modifiers: Any = Qt.NoModifier) -> None:
-    """A key press delivered to the focus widget, as the keyboard would."""
-    focus = app.focusWidget()
-    assert focus is not None
-    QTest.keyClick(focus, key, modifiers)
-
-
-def project(win: Any, point: np.ndarray) -> np.ndarray:
-    """Pixel (x, y) of a world point in the GL widget."""
-    width, height = win.view.pixel_size()
-    return win.session.camera.project(np.asarray(point)[None, :], width, height)[0]
-
-
-def near(image: np.ndarray, xy: np.ndarray, radius: int) -> np.ndarray:
-    x, y = int(round(xy[0])), int(round(xy[1]))
-    return image[max(y - radius, 0): y + radius + 1, max(x - radius, 0): x + radius + 1, :3].astype(int)
-
-
-def dominant(pixels: np.ndarray, channel: int) -> int:
-    """Number of pixels where ``channel`` is bright and clearly above the other two."""
-    others = np.delete(pixels, channel, axis=-1)
-    c = pixels[..., channel]
-    return int(np.count_nonzero((c > 100) & (c > 2 * others.max(axis=-1))))
-
-
-def robot_pixels(image: np.ndarray) -> int:
-    """Pixels that are neither background (BACKGROUND_COLOR) nor floor: the colours making
-    up at least 10 % of the bottom rows (a close-up's link may reach the top rows of a
-    wide view; grid lines, shaded like the links, count as non-floor in both pictures)."""
-    rgb = image[..., :3].astype(int)
-    background = np.round(255 * np.asarray(gd.BACKGROUND_COLOR[:3])).astype(int)
-    colours, counts = np.unique(rgb[-4:].reshape(-1, 3), axis=0, return_counts=True)
-    palette = np.concatenate([background[None], colours[counts >= 0.1 * counts.sum()]])
-    distance = np.abs(rgb[:, :, None, :] - palette[None, None, :, :]).max(axis=-1).min(axis=-1)
-    return int(np.count_nonzero(distance > 24))
-
-
-def changed_pixels(a: np.ndarray, b: np.ndarray) -> int:
-    return int(np.count_nonzero(np.any(a != b, axis=-1)))
-
-
-def cyan_pixels(pixels: np.ndarray) -> int:
-    """Pixels tinted by the translucent cyan ghost (GHOST_COLOR)."""
-    r, g, b = pixels[..., 0], pixels[..., 1], pixels[..., 2]
-    return int(np.count_nonzero((b > r + 40) & (g > r + 20)))
-
-
-def is_red(image: np.ndarray, xy: np.ndarray) -> bool:
-    return dominant(near(image, xy, 1), 0) >= 5
-
-
-def drag(app: QApplication, widget: Any, start: QPoint, delta: QPoint, button: Any, modifiers: Any = Qt.NoModifier) -> None:
-    """Press ``button`` at ``start``, move by ``delta`` with it held, release."""
-    QTest.mousePress(widget, button, modifiers, start)
-    app.sendEvent(widget, QMouseEvent(QEvent.MouseMove, start + delta, Qt.NoButton, button, modifiers))
-    QTest.mouseRelease(widget, button, modifiers, start + delta)
-
-
-def wait_until(condition: Any, limit_ms: int = 30000) -> None:
-    waited = 0
-    while not condition() and waited < limit_ms:
-        QTest.qWait(20)
-        waited += 20
-    assert condition()
+from window_helpers import (  # noqa: F401 - fixtures and helpers
+    ROOT,
+    app,
+    open_window,
+    window,
+    grab,
+    grab_window,
+    press,
+    project,
+    near,
+    dominant,
+    robot_pixels,
+    changed_pixels,
+    cyan_pixels,
+    is_red,
+    drag,
+    wait_until,
+)
 
 
 @pytest.mark.window
@@ -204,7 +113,7 @@ def test_arrow_key_orbits_camera(app: QApplication, window: Any) -> None:
     before = grab(window)
     press(app, Qt.Key_Left)
     after = grab(window)
-    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - gd.KEY_ORBIT_STEP_DEG)
+    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - qs.KEY_ORBIT_STEP_DEG)
     assert changed_pixels(before, after) > 1000
 
 
@@ -212,10 +121,10 @@ def test_arrow_key_orbits_camera(app: QApplication, window: Any) -> None:
 def test_w_and_s_zoom(app: QApplication, window: Any) -> None:
     distance = window.session.camera.distance
     press(app, Qt.Key_W)
-    assert window.session.camera.distance == pytest.approx(distance / gd.KEY_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance / qs.KEY_ZOOM_FACTOR)
     press(app, Qt.Key_S)
     press(app, Qt.Key_S)
-    assert window.session.camera.distance == pytest.approx(distance * gd.KEY_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance * qs.KEY_ZOOM_FACTOR)
 
 
 @pytest.mark.window
@@ -224,7 +133,7 @@ def test_slider_moves_the_red_endeffector(app: QApplication, window: Any) -> Non
     before = grab(window)
     assert is_red(before, old_xy)
     slider = window.joints.rows[0].slider
-    slider.setValue(slider.value() + 60 * gd.SLIDER_TICKS_PER_DEG)  # joint 1 by +60 deg
+    slider.setValue(slider.value() + 60 * qs.SLIDER_TICKS_PER_DEG)  # joint 1 by +60 deg
     assert window.session.state.q()[0] == pytest.approx(math.radians(60.0))
     assert window.joints.rows[0].box.value() == pytest.approx(60.0)  # the box follows
     new_xy = project(window, window.session.kin.endeff_tf.t())
@@ -256,7 +165,7 @@ def test_target_keys_move_the_ghost_and_robot_follows(app: QApplication, window:
         press(app, Qt.Key_I)  # +x, TARGET_STEP_M each
     assert window.session.target_reachable
     ghost_after = window.session.ghost.endeff_tf.t()
-    np.testing.assert_allclose(ghost_after - ghost_before, [8 * gd.TARGET_STEP_M, 0, 0], atol=1e-4)
+    np.testing.assert_allclose(ghost_after - ghost_before, [8 * qs.TARGET_STEP_M, 0, 0], atol=1e-4)
     xy_after = project(window, ghost_after)
     assert np.linalg.norm(xy_after - xy_before) > 10
     # the current robot has not moved yet: around the yellow target marker only the
@@ -289,7 +198,7 @@ def test_shift_target_key_rotates_target(app: QApplication, window: Any) -> None
     press(app, Qt.Key_G)
     rot = window.session.target_tf.R().copy()
     press(app, Qt.Key_U, Qt.ShiftModifier)
-    step = math.radians(gd.TARGET_STEP_DEG)
+    step = math.radians(qs.TARGET_STEP_DEG)
     rz = np.array([[math.cos(step), -math.sin(step), 0], [math.sin(step), math.cos(step), 0], [0, 0, 1]])
     np.testing.assert_allclose(window.session.target_tf.R(), rz @ rot, atol=1e-9)
 
@@ -301,16 +210,16 @@ def test_help_overlay_lists_bindings(app: QApplication, window: Any) -> None:
     press(app, Qt.Key_H)
     grab_window(window)
     after = grab_window(window)  # still there on a later paint
-    corner = after[gd.HELP_MARGIN_PX + 2: 200, gd.HELP_MARGIN_PX + 2: 200, :3].astype(int)
-    text = np.all(np.abs(corner - np.array(gd.HELP_TEXT_RGB)) < 40, axis=-1)
+    corner = after[qs.HELP_MARGIN_PX + 2: 200, qs.HELP_MARGIN_PX + 2: 200, :3].astype(int)
+    text = np.all(np.abs(corner - np.array(qs.HELP_TEXT_RGB)) < 40, axis=-1)
     assert np.count_nonzero(text) > 100
     assert changed_pixels(before, after) > 5000
     lines = help_lines()
-    for _key, _mods, _action, _arg, text in gd.KEY_BINDINGS:  # rows with one description share a line
+    for _key, _mods, _action, _arg, text in qs.KEY_BINDINGS:  # rows with one description share a line
         assert any(text in line for line in lines), text
     assert any(line.startswith("1 .. 9 ") for line in lines)
     assert any(line.startswith("Shift+I / Shift+K ") for line in lines)
-    for gesture, text in gd.MOUSE_BINDINGS:
+    for gesture, text in qs.MOUSE_BINDINGS:
         assert any(line.startswith(gesture) and text in line for line in lines)
 
 
@@ -379,7 +288,7 @@ def test_circle_demo_and_velocity_vectors(app: QApplication) -> None:
         assert win.timer.isActive()
         QTest.qWait(400)
         distance = np.linalg.norm((win.session.kin.endeff_tf.t() - demo.center)[:2])
-        assert distance == pytest.approx(gd.DEMO_CIRCLE_RADIUS_M, abs=0.01)
+        assert distance == pytest.approx(vs.DEMO_CIRCLE_RADIUS_M, abs=0.01)
         assert np.linalg.norm(win.session.kin.endeff_twist[:3]) > 0.01
         win.timer.stop()  # freeze the motion, arrows still show the last velocity
         with_vectors = grab(win)
@@ -398,14 +307,14 @@ def test_mouse_drag_orbits_and_ctrl_drag_moves_target(app: QApplication, window:
     centre = view.rect().center()
     azimuth, distance = window.session.camera.azimuth_deg, window.session.camera.distance
     drag(app, view, centre, QPoint(25, 0), Qt.LeftButton)
-    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - 25 * gd.MOUSE_ORBIT_DEG_PER_PX)
+    assert window.session.camera.azimuth_deg == pytest.approx(azimuth - 25 * qs.MOUSE_ORBIT_DEG_PER_PX)
     camera_target = window.session.camera.target.copy()
     drag(app, view, centre, QPoint(0, 40), Qt.RightButton)
     assert np.linalg.norm(window.session.camera.target - camera_target) > 0
     QTest.mouseClick(view, Qt.LeftButton)  # focus stays with the view
     wheel = QWheelEvent(QPoint(centre), view.mapToGlobal(centre), QPoint(), QPoint(0, 120), Qt.NoButton, Qt.NoModifier, Qt.NoScrollPhase, False)
     app.sendEvent(view, wheel)  # one notch away from the user: zoom in
-    assert window.session.camera.distance == pytest.approx(distance / gd.WHEEL_ZOOM_FACTOR)
+    assert window.session.camera.distance == pytest.approx(distance / qs.WHEEL_ZOOM_FACTOR)
     press(app, Qt.Key_G)
     target = window.session.target_tf.t().copy()
     drag(app, view, centre, QPoint(30, 0), Qt.LeftButton, Qt.ControlModifier)

@@ -13,8 +13,9 @@ from PyQt5.QtTest import QTest
 from PyQt5.QtWidgets import QApplication
 
 from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
-from test_window import app, grab, open_window, press, project, wait_until  # noqa: F401 (app is a fixture)
+from window_helpers import app, grab, open_window, press, project, wait_until  # noqa: F401 (app is a fixture)
 
 from robot_sim.qt.overlays import help_lines  # noqa: E402
 
@@ -116,5 +117,5 @@ def test_a_joint_hitting_its_limit_flashes_and_says_so(app: QApplication, closin
     win.session.set_q(q_des)
     wait_until(lambda: bool(win.session.motion.sim.at_limit[3]), limit_ms=10000)
     QTest.qWait(50)
-    assert gd.LIMIT_FLASH_COLOR in label.styleSheet()
+    assert qs.LIMIT_FLASH_COLOR in label.styleSheet()
     assert "joint 4 hit its min limit" in win.message_label.text()

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 from robot_sim.graphics import defs as gd
-from test_window import app, changed_pixels, grab, is_red, open_window, press, project, wait_until  # noqa: F401
+from robot_sim.qt import settings as qs
+from window_helpers import app, changed_pixels, grab, is_red, open_window, press, project, wait_until  # noqa: F401
 
 from PyQt5.QtCore import Qt  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
@@ -85,7 +86,7 @@ def test_an_invalid_value_is_refused_in_place_with_the_reason(app: Any, planar: 
     assert planar.session.robot is robot  # nothing changed
     item = planar.dh_dock.table.item(1, COLUMNS.index("limits"))
     assert item.text() == "100 .. 50"  # the refused text stays where it was typed ...
-    assert item.background().color().getRgb()[:3] == gd.DH_INVALID_CELL_RGB  # ... tinted
+    assert item.background().color().getRgb()[:3] == qs.DH_INVALID_CELL_RGB  # ... tinted
     reason = "joint 2 limits: min 100.0 > max 50.0"
     assert item.toolTip() == f"refused: {reason}"
     assert planar.dh_dock.error_label.text() == f"refused: {reason}"
@@ -98,7 +99,7 @@ def test_the_joint_variable_cell_is_read_only_and_follows_the_joint(app: Any, pl
     item = planar.dh_dock.table.item(0, COLUMNS.index("theta"))
     assert not item.flags() & Qt.ItemIsEditable
     assert item.text() == "10.00 (q1)"
-    planar.joints.rows[0].slider.setValue(45 * gd.SLIDER_TICKS_PER_DEG)
+    planar.joints.rows[0].slider.setValue(45 * qs.SLIDER_TICKS_PER_DEG)
     assert item.text() == "45.00 (q1)"
 
 
@@ -273,7 +274,7 @@ def test_grid_scale_is_shown(app: Any, planar: Any) -> None:
 
 def test_follow_keeps_the_camera_on_the_endeffector(app: Any, planar: Any) -> None:
     press(app, Qt.Key_F)
-    planar.joints.rows[0].slider.setValue(60 * gd.SLIDER_TICKS_PER_DEG)
+    planar.joints.rows[0].slider.setValue(60 * qs.SLIDER_TICKS_PER_DEG)
     np.testing.assert_array_equal(planar.session.camera.target, planar.session.kin.endeff_tf.t())
     centre = (np.array(planar.view.pixel_size()) - 1) / 2.0
     np.testing.assert_allclose(project(planar, planar.session.kin.endeff_tf.t()), centre, atol=1e-6)
@@ -288,7 +289,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     slider = planar.joints.rows[0].slider
     start = planar.session.kin.endeff_tf.t().copy()
     for deg in range(10, 71, 2):
-        slider.setValue(deg * gd.SLIDER_TICKS_PER_DEG)
+        slider.setValue(deg * qs.SLIDER_TICKS_PER_DEG)
     points = planar.trail.points()
     assert len(points) >= 25
     np.testing.assert_allclose(points[0], start)
@@ -358,8 +359,8 @@ def test_p_saves_into_the_screenshots_folder_and_says_where(app: Any, planar: An
                                                          monkeypatch: Any) -> None:
     monkeypatch.chdir(tmp_path)
     press(app, Qt.Key_P)
-    saved = list((tmp_path / gd.SCREENSHOT_DIR).glob("robot-sim-planar3-*.png"))
+    saved = list((tmp_path / qs.SCREENSHOT_DIR).glob("robot-sim-planar3-*.png"))
     assert len(saved) == 1
     assert planar.message_label.text() == f"screenshot saved to {saved[0]}"
     assert planar.message_label.isVisible()
-    assert (ROOT / ".gitignore").read_text().splitlines().count(f"{gd.SCREENSHOT_DIR}/") == 1
+    assert (ROOT / ".gitignore").read_text().splitlines().count(f"{qs.SCREENSHOT_DIR}/") == 1

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from robot_sim.io import files as fileio
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 from robot_sim.app.robot_cmds import dh_table_text, export
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
@@ -30,6 +30,7 @@ from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
 from robot_sim.viewer import recording
 from robot_sim.viewer.pick_demo import plan_for
+from robot_sim.control.controllers import PHYSICAL_MODES
 from robot_sim.control.pick_run import simulate_pick
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.viewer.session import ViewerSession, compute_workspace, display_range, display_scale
@@ -40,8 +41,13 @@ if TYPE_CHECKING:
 PROG = "robot-sim"
 DEFAULT_ROBOT = "anthropomorphic"
 DEMOS = ("circle", "pick")
-#: ``--motion`` choices: the physical motion modes of control.py.
-MOTIONS = ("passive", "pd", "pdg", "ct")
+#: ``--motion`` choices: the physical motion modes of robot_sim.control.controllers.
+MOTIONS = PHYSICAL_MODES
+#: Command-line limits and defaults.
+WINDOW_SIZE_LIMITS = (16, 8192)      # px, accepted range of each --size value
+RECORD_DEFAULT_FPS = 25.0
+RECORD_DEFAULT_DURATION_S = 5.0           # without the pick demo (whose length is the default)
+RECORD_MAX_FPS = 1000.0
 
 
 class CliError(Exception):
@@ -71,8 +77,8 @@ class Config:
     pick_report: str | None = None  # --demo pick --motion: tracking errors, one line
     time: float = 0.0  # --time: pick demo time shown first [s]
     record: Path | None = None  # --record DIR
-    duration: float = gd.RECORD_DEFAULT_DURATION_S  # --duration [s]
-    fps: float = gd.RECORD_DEFAULT_FPS  # --fps
+    duration: float = RECORD_DEFAULT_DURATION_S  # --duration [s]
+    fps: float = RECORD_DEFAULT_FPS  # --fps
     annotate: int | None = None  # joint number whose DH parameters are drawn
     motion: str | None = None  # --motion: physical motion mode
     simulate: float = 0.0  # --duration with --motion and no --record: seconds simulated first [s]
@@ -81,7 +87,7 @@ class Config:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``robot-sim`` (errors raise CliError instead of exiting)."""
-    w, h = gd.WINDOW_DEFAULT_SIZE
+    w, h = vs.WINDOW_DEFAULT_SIZE
     parser = _Parser(prog=PROG, description="DH robot manipulator simulator with an OpenGL viewer.")
     parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf",
                         help=f"shipped robot name, robot file or URDF file (default: {DEFAULT_ROBOT})")
@@ -114,12 +120,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--time", metavar="T",
                         help="with --demo pick: show the task at T seconds (past the end: the final scene)")
     parser.add_argument("--record", metavar="DIR",
-                        help=f"render the scene offscreen to DIR/{gd.RECORD_FRAME_FORMAT.format(index=0)}, ... and exit")
+                        help=f"render the scene offscreen to DIR/{vs.RECORD_FRAME_FORMAT.format(index=0)}, ... and exit")
     parser.add_argument("--duration", metavar="T",
                         help="with --record: seconds to record (default: the rest of the pick task, "
-                             f"else {gd.RECORD_DEFAULT_DURATION_S:g}); with --motion and no --record: "
+                             f"else {RECORD_DEFAULT_DURATION_S:g}); with --motion and no --record: "
                              "seconds to simulate before the screenshot or the window")
-    parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {gd.RECORD_DEFAULT_FPS:g})")
+    parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {RECORD_DEFAULT_FPS:g})")
     parser.add_argument("--annotate", metavar="J",
                         help="draw joint J's DH parameters (d, θ, a, α) between frames J-1 and J, J = 1..n")
     parser.add_argument("--motion", choices=MOTIONS,
@@ -193,7 +199,7 @@ def parse_q(text: str, robot: RobotParams) -> np.ndarray:
 
 def parse_size(text: str) -> tuple[int, int]:
     """Parse ``--size WxH`` into (width, height) pixels within WINDOW_SIZE_LIMITS."""
-    lo, hi = gd.WINDOW_SIZE_LIMITS
+    lo, hi = WINDOW_SIZE_LIMITS
     match = re.fullmatch(r"(\d+)x(\d+)", text.strip().lower())
     if match is None or not all(lo <= int(v) <= hi for v in match.groups()):
         raise CliError(f"--size: expected WxH with each of W and H in {lo}..{hi} pixels (e.g. 800x600), got '{text}'")
@@ -354,12 +360,12 @@ def pick_arguments(
 
 def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: float) -> tuple[Path | None, float, float]:
     """--record DIR (created if missing; its parent must exist), --duration and --fps."""
-    fps = gd.RECORD_DEFAULT_FPS
+    fps = RECORD_DEFAULT_FPS
     if args.fps is not None:
-        fps = _number("--fps", args.fps, f"a positive number of frames per second up to {gd.RECORD_MAX_FPS:g}", True)
-        if fps > gd.RECORD_MAX_FPS:
-            raise CliError(f"--fps: expected a positive number of frames per second up to {gd.RECORD_MAX_FPS:g}, got '{args.fps}'")
-    duration = gd.RECORD_DEFAULT_DURATION_S if plan is None else max(plan.duration - time, 0.0)
+        fps = _number("--fps", args.fps, f"a positive number of frames per second up to {RECORD_MAX_FPS:g}", True)
+        if fps > RECORD_MAX_FPS:
+            raise CliError(f"--fps: expected a positive number of frames per second up to {RECORD_MAX_FPS:g}, got '{args.fps}'")
+    duration = RECORD_DEFAULT_DURATION_S if plan is None else max(plan.duration - time, 0.0)
     if args.duration is not None:
         duration = _number("--duration", args.duration, "a finite number of seconds >= 0", False)
     if args.record is None:

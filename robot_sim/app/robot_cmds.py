@@ -1,9 +1,9 @@
-"""Command-line actions on a robot description (behind ``_cli``/``simulator``), Qt- and
+"""Command-line actions on a robot description (behind ``robot_sim.app.cli``/``simulator``), Qt- and
 GL-free: ``--list-robots`` (a table), ``--print-dh`` (the DH table in both conventions),
 ``--export-urdf FILE`` and ``--export-toml FILE`` (written atomically).
 
-Writing errors are OSError (``fileio.FileWriteError``) naming the path and the reason;
-``_cli.robot_actions`` reports them as one line with exit status 2.
+Writing errors are OSError (``robot_sim.io.files.FileWriteError``) naming the path and the reason;
+``robot_sim.app.cli.robot_actions`` reports them as one line with exit status 2.
 """
 from __future__ import annotations
 
@@ -84,7 +84,7 @@ def dh_table_text(robot: RobotParams) -> str:
                 _g(math.degrees(table.dh_alpha[i])), _g(math.degrees(table.dh_th[i])), _g(table.dh_d[i]), q_range,
             ))
         out += ["", f"{convention} DH: {_DH_FORMULAS[convention]}", _table(rows),
-                f"base: {_frame_text(table.base_tf)}", f"tool: {_frame_text(table.endeff_tf)}"]
+                f"base: {_frame_text(table.base_tf)}", f"tool: {_frame_text(table.tool_tf)}"]
     return "\n".join(out)
 
 

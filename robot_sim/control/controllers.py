@@ -4,7 +4,7 @@ Every controller has one method, :meth:`Controller.torque`, taking the current j
 vector ``q`` and velocity ``qd`` and the desired ``q_des``, ``qd_des``, ``qdd_des`` (all
 (n,), radians / metres and their rates) and returning the commanded joint effort (n,)
 [N·m for revolute joints, N for prismatic ones].  Effort limits are applied afterwards by
-the simulation (see simulation.py), not here.
+the simulation (see robot_sim/control/simulation.py), not here.
 
 * :class:`Passive` – zero effort: the arm falls under gravity (and friction).
 * :class:`PD` – ``τ = Kp (q_des − q) + Kd (qd_des − qd)``.
@@ -46,9 +46,11 @@ DEFAULT_BANDWIDTH_HZ = 2.0
 #: Default damping ratio: critically damped, no overshoot on a step of the desired value.
 DEFAULT_DAMPING = 1.0
 
-#: Motion modes of the simulation, in the order the window cycles them.  ``kinematic``
-#: is no physics at all (the joints follow the desired values directly).
-MOTION_MODES = ("kinematic", "passive", "pd", "pdg", "ct")
+#: Physical motion modes (a controller in the simulation loop), ``--motion``'s choices.
+PHYSICAL_MODES = ("passive", "pd", "pdg", "ct")
+#: Motion modes of the viewer, in the order the window cycles them.  ``kinematic`` is no
+#: physics at all (the joints follow the desired values directly).
+MOTION_MODES = ("kinematic", *PHYSICAL_MODES)
 MOTION_LABELS = {
     "kinematic": "kinematic",
     "passive": "passive",

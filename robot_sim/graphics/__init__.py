@@ -7,22 +7,22 @@ and :class:`OffscreenRenderer` calls it in an OSMesa context for screenshots and
 
 The work is done by private modules, one job each:
 
-* ``_gfx_camera``: the orbit :class:`Camera` (view, projection, framing, projection of
+* ``robot_sim.graphics.camera``: the orbit :class:`Camera` (view, projection, framing, projection of
   points to pixels);
-* ``_gfx_scene``: :class:`Scene` (what a frame shows) and :class:`GraphicsOptions` (how);
-* ``_gfx_gl``: lazily imported PyOpenGL, matrices, client arrays, display lists and GL
+* ``robot_sim.graphics.scene``: :class:`Scene` (what a frame shows) and :class:`GraphicsOptions` (how);
+* ``robot_sim.graphics.gl``: lazily imported PyOpenGL, matrices, client arrays, display lists and GL
   state scoped by named presets (``gl_state("opaque" | "translucent" | "overlay" |
   "unlit")``, pushed and popped around each drawable);
-* ``_gfx_meshes``: unit meshes tessellated once;
-* ``_gfx_resources``: per-context GL objects and :class:`Drawable`, the base of every
+* ``robot_sim.graphics.meshes``: unit meshes tessellated once;
+* ``robot_sim.graphics.resources``: per-context GL objects and :class:`Drawable`, the base of every
   drawable, which owns its GL objects and paints itself (pyqtgraph's item model);
-* ``_gfx_robot``: the robot as its DH segments and joints, part sizes (no GL);
-* ``_gfx_drawables``: floor, axes, arrows, IK target, robot;
-* ``_gfx_text``: labels as bitmap text (no GUI toolkit);
-* ``_gfx_annotate``: one joint's DH parameters as dimensions and arcs;
-* ``_gfx_cloud``: the workspace cloud with its vertex buffer and picture cache;
-* ``_gfx_render``: :func:`render_scene`;
-* ``_gfx_offscreen``: :class:`OffscreenRenderer` (OSMesa) and :func:`save_png`.
+* ``robot_sim.graphics.robot_parts``: the robot as its DH segments and joints, part sizes (no GL);
+* ``robot_sim.graphics.items.drawables``: floor, axes, arrows, IK target, robot;
+* ``robot_sim.graphics.items.text``: labels as bitmap text (no GUI toolkit);
+* ``robot_sim.graphics.items.annotation``: one joint's DH parameters as dimensions and arcs;
+* ``robot_sim.graphics.items.cloud``: the workspace cloud with its vertex buffer and picture cache;
+* ``robot_sim.graphics.render``: :func:`render_scene`;
+* ``robot_sim.graphics.offscreen``: :class:`OffscreenRenderer` (OSMesa) and :func:`save_png`.
 
 None of them imports Qt, and ``OpenGL.GL`` is imported only when something is drawn,
 so :func:`require_osmesa_platform` can still choose PyOpenGL's platform after import.

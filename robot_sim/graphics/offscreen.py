@@ -84,8 +84,8 @@ class OffscreenRenderer:
 def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
     """Write ``image`` (H, W, 3) RGB or (H, W, 4) RGBA uint8, row 0 at the top, as a PNG.
 
-    The file is written atomically (fileio.write_atomic): complete or not at all.  Raises
-    ValueError for another shape or dtype and fileio.FileWriteError (an OSError) naming
+    The file is written atomically (robot_sim.io.files.write_atomic): complete or not at all.  Raises
+    ValueError for another shape or dtype and robot_sim.io.files.FileWriteError (an OSError) naming
     the path and the reason when it cannot be written."""
     img = np.asarray(image)
     if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] not in (3, 4) or 0 in img.shape:

@@ -93,7 +93,7 @@ class OwnedObjects:
 class Drawable:
     """Something the render path draws (pyqtgraph's GLGraphicsItem model): it owns its GL
     objects (``self.gl``, built per context on first use) and paints itself inside the GL
-    state preset ``gl_preset`` (see ``_gfx_gl.GL_PRESETS``), as lines when ``wireframe``.
+    state preset ``gl_preset`` (see ``robot_sim.graphics.gl.GL_PRESETS``), as lines when ``wireframe``.
     Subclasses implement :meth:`paint`; hosts call :meth:`draw`."""
 
     gl_preset: str = "opaque"

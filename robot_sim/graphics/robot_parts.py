@@ -36,16 +36,10 @@ from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 RGBA = tuple[float, float, float, float]
 
 
-@functools.lru_cache(maxsize=64)
 def robot_reach(robot: RobotParams) -> float:
-    """Characteristic size of ``robot`` in metres: the sum of |a| and |d| over its joints
-    (a prismatic joint's d counted at its largest finite limit) plus the tool offset,
-    clamped to [``REACH_MIN``, ``REACH_MAX``].  Computed once per robot (parameters are
-    immutable)."""
-    stroke = np.where(np.isfinite(robot.q_max), np.abs(robot.q_max), np.abs(robot.q_home))
-    d = np.abs(robot.dh_d) + np.where(robot.jtype == JTYPE_PRISMATIC, stroke, 0.0)
-    total = float(np.sum(np.abs(robot.dh_a)) + np.sum(d) + np.linalg.norm(robot.endeff_tf.t()))
-    return float(np.clip(total, gd.REACH_MIN, gd.REACH_MAX))
+    """Size of ``robot`` for drawing [m]: :attr:`RobotParams.size` clamped to
+    [``REACH_MIN``, ``REACH_MAX``]."""
+    return float(np.clip(robot.size, gd.REACH_MIN, gd.REACH_MAX))
 
 
 @dataclass(frozen=True)
@@ -192,7 +186,7 @@ def robot_look(robot: RobotParams) -> RobotLook:
 @dataclass(frozen=True)
 class Part:
     """Copies of one unit mesh in one colour: ``mesh`` names a unit mesh
-    (``_gfx_meshes.unit_meshes``), ``placements`` (N, 4, 4) place it in the world."""
+    (``robot_sim.graphics.meshes.unit_meshes``), ``placements`` (N, 4, 4) place it in the world."""
 
     mesh: str
     color: RGBA
@@ -281,7 +275,7 @@ def differing(parts: list[Part], reference: list[Part], tol: float = gd.GHOST_TO
     return out
 
 
-# corners of the unit meshes' bounding boxes (see _gfx_meshes): z from 0 to 1 for the
+# corners of the unit meshes' bounding boxes (see robot_sim.graphics.meshes): z from 0 to 1 for the
 # cylinder-like ones, centred for the sphere and the box
 _MESH_CORNERS = {
     "sphere": np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float),

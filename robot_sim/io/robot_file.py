@@ -50,7 +50,7 @@ TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "too
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive", *GEOMETRY_KEYS}
 DH_KEYS = ("a", "alpha", "d", "theta")
-#: Keys of the optional top-level ``[control]`` table (gains of control.py): ``bandwidth``
+#: Keys of the optional top-level ``[control]`` table (gains of robot_sim/control/controllers.py): ``bandwidth``
 #: closed-loop natural frequency in Hz (> 0), ``damping`` ratio (> 0), ``kp`` and ``kd``
 #: per-joint PD gains (n numbers ≥ 0; N·m/rad and N·m·s/rad, or N/m and N·s/m).
 CONTROL_KEYS = {"bandwidth", "damping", "kp", "kd"}
@@ -118,7 +118,7 @@ def load_robot(
     A URDF becomes a DH robot (``urdf.load_urdf``): the chain from the root link to
     ``tip`` (needed when the tree branches), in ``convention`` (standard by default).  A
     TOML robot keeps its file's convention unless ``convention`` names the other one, to
-    which it is converted exactly (``dh_convert``).  ``tip`` applies to URDF files only.
+    which it is converted exactly (``robot_sim.model.convert``).  ``tip`` applies to URDF files only.
     Mesh files are read with the robot: one that cannot be found or read is an error, or,
     with ``skip_missing_meshes``, a :class:`~robot_sim.io.meshes.MeshSkippedWarning` (once
     per file) and a robot without that mesh.
@@ -138,7 +138,7 @@ def load_robot(
     robot = _parse_robot(read_toml(path), path, skip_missing_meshes)
     if convention is None:
         return robot
-    from robot_sim.model.convert import to_convention  # dh_convert builds on this module
+    from robot_sim.model.convert import to_convention  # robot_sim.model.convert builds on this module
 
     return to_convention(robot, convention)
 
@@ -164,7 +164,7 @@ def check_bounds(robot: RobotParams, path: Path | str) -> None:
                 f"{path}: joint {i + 1}: {what} beyond the accepted ±{MAX_LENGTH:g} m (lengths) "
                 f"or ±{MAX_ANGLE_DEG:g} deg (angles)"
             )
-    for what, tf in (("base", robot.base_tf), ("tool", robot.endeff_tf)):
+    for what, tf in (("base", robot.base_tf), ("tool", robot.tool_tf)):
         offset = float(np.abs(tf.mat[:3, 3]).max())
         if not offset <= MAX_LENGTH:
             raise RobotDefinitionError(f"{path}: {what} offset {offset:g} m beyond the accepted ±{MAX_LENGTH:g} m")
@@ -297,7 +297,7 @@ def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = F
         q_max=frozen(columns["hi"]),
         link_com_frac=frozen(columns["com"]),
         base_tf=base_tf,
-        endeff_tf=tool_tf,
+        tool_tf=tool_tf,
         source=str(path),
         description=description,
         convention=convention,

@@ -1,7 +1,7 @@
 """Writing robots back to TOML files, and validated edits of one DH value.
 
-:func:`to_toml` turns a :class:`~robot_defs.RobotParams` into the text of a robot file that
-:func:`~robot_defs.load_robot` loads back to the same arrays.  Given a *template* (the text
+:func:`to_toml` turns a :class:`~robot_sim.model.params.RobotParams` into the text of a robot file that
+:func:`~robot_sim.model.params.load_robot` loads back to the same arrays.  Given a *template* (the text
 of the file the robot came from) it edits that document in place with tomlkit, a
 style-preserving TOML library: comments, source citations, key order, blank lines and the
 file's units stay as they were, and only values that no longer load to the robot's value
@@ -252,7 +252,7 @@ def robot_document(
     if "base" in doc:
         place.sync(doc["base"], base_shapes)
     _set_frame(doc, "base", robot.base_tf, to_rad)
-    _set_frame(doc, "tool", robot.endeff_tf, to_rad)
+    _set_frame(doc, "tool", robot.tool_tf, to_rad)
     return doc
 
 
@@ -268,7 +268,7 @@ def to_toml(robot: RobotParams, template: str | None = None, directory: str | os
 
 
 def save_robot(robot: RobotParams, path: str | os.PathLike[str], template: str | None = None) -> None:
-    """Write ``robot`` to ``path`` atomically (:func:`fileio.write_atomic`), style-preserving
+    """Write ``robot`` to ``path`` atomically (:func:`robot_sim.io.files.write_atomic`), style-preserving
     when ``template`` is given, mesh paths relative to the file's folder.  FileWriteError (an OSError) naming the path and the reason."""
     write_atomic(path, to_toml(robot, template, Path(path).parent))
 

@@ -1,6 +1,6 @@
 """Reading a serial arm from URDF (behind :mod:`urdf`): :func:`load_urdf`.
 
-Steps, each refusing bad input with one :class:`~robot_defs.RobotDefinitionError` before
+Steps, each refusing bad input with one :class:`~robot_sim.model.params.RobotDefinitionError` before
 anything is built:
 
 1. **Parse** UTF-8 text with the standard library's ElementTree, refusing any
@@ -24,7 +24,7 @@ anything is built:
    root frame, the tool transform carries the tip link from frame n.
 5. **Table**: a_{i-1}, α_{i-1}, θ_i, d_i read off Rx(α) Tx(a) Rz(θ) Tz(d) between successive
    frames; the joint variable q_i equals the URDF joint value (z_i points along the URDF
-   axis).  ``convention="standard"`` then converts exactly (:mod:`dh_convert`).
+   axis).  ``convention="standard"`` then converts exactly (:mod:`robot_sim.model.convert`).
 
 Limits carry over (continuous joints unlimited); effort and velocity limits become the
 robot's drives (0 counts as unknown).  Inertials carry over: the links of one rigid body
@@ -404,7 +404,7 @@ def _build(path: Path, name: str, chain: list[_Joint], link_inertials: dict[str,
         name, a, alpha, d, theta, jtype,
         q_home=np.clip(0.0, lo, hi), q_min=lo, q_max=hi,
         base_tf=HomogeneousTransform(frames[0]),
-        endeff_tf=HomogeneousTransform(np.linalg.inv(frames[-1]) @ tip_pose),
+        tool_tf=HomogeneousTransform(np.linalg.inv(frames[-1]) @ tip_pose),
         convention=CONVENTION_MODIFIED,
         inertials=_body_inertials(parts, frames),
         drives=_drives(moving),

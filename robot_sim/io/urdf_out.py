@@ -117,7 +117,7 @@ def to_urdf(robot: RobotParams, path: str | Path | None = None) -> str:
             continue
         if i > 0:
             _cylinder(link, np.eye(4), URDF_JOINT_RADIUS, URDF_JOINT_LENGTH)
-        end = origins[i][:3, 3] if i < n else mod.endeff_tf.t()
+        end = origins[i][:3, 3] if i < n else mod.tool_tf.t()
         _segment_cylinder(link, np.asarray(end, dtype=float))
 
     def joint(name: str, kind: str, parent: str, child: str, mat: np.ndarray) -> ET.Element:
@@ -142,7 +142,7 @@ def to_urdf(robot: RobotParams, path: str | Path | None = None) -> str:
             ET.SubElement(element, "limit", lower=_num(lo), upper=_num(hi), effort=_num(effort), velocity=_num(velocity))
         elif effort or velocity:
             ET.SubElement(element, "limit", effort=_num(effort), velocity=_num(velocity))
-    joint("tool_joint", "fixed", f"link{n}", "tool0", mod.endeff_tf.mat)
+    joint("tool_joint", "fixed", f"link{n}", "tool0", mod.tool_tf.mat)
     ET.indent(root)
     return '<?xml version="1.0"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 

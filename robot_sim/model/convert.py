@@ -93,7 +93,7 @@ def to_modified(robot: RobotParams) -> RobotParams:
         inertials=_moved_inertials(robot.inertials, robot.dh_a, robot.dh_alpha, inverse=False),
         dh_a=frozen(np.concatenate([[0.0], robot.dh_a[:-1]])),
         dh_alpha=frozen(np.concatenate([[0.0], robot.dh_alpha[:-1]])),
-        endeff_tf=_x_motion(robot.dh_a[-1], robot.dh_alpha[-1]) @ robot.endeff_tf,
+        tool_tf=_x_motion(robot.dh_a[-1], robot.dh_alpha[-1]) @ robot.tool_tf,
         convention=CONVENTION_MODIFIED,
         **_moved_geometry(robot, robot.dh_a, robot.dh_alpha, inverse=False),
     )

@@ -61,12 +61,7 @@ def estimate_inertials(robot: RobotParams, density: float = DEFAULT_DENSITY) -> 
         raise ValueError(f"density must be a positive finite number (kg/m^3), got {density!r}")
     n = robot.n_dofs
     modified = robot.is_modified
-    size = float(
-        np.sum(np.abs(robot.dh_a))
-        + sum(abs(_segment_length_d(robot, i)) for i in range(n))
-        + np.linalg.norm(robot.endeff_tf.t())
-    )
-    radius = ESTIMATE_RADIUS_FRAC * max(size, 1e-3)
+    radius = ESTIMATE_RADIUS_FRAC * max(robot.size, 1e-3)
     masses, coms, inertias = [], [], []
     origin = np.zeros(3)
     for i in range(n):
@@ -76,7 +71,7 @@ def estimate_inertials(robot: RobotParams, density: float = DEFAULT_DENSITY) -> 
                 corner = np.array([a, 0.0, 0.0])
                 points = [origin, corner, corner + _segment_length_d(robot, i + 1) * np.array([0.0, -sa, ca])]
             else:
-                points = [origin, robot.endeff_tf.t()]
+                points = [origin, robot.tool_tf.t()]
         else:
             a, sa, ca = robot.dh_a[i], math.sin(robot.dh_alpha[i]), math.cos(robot.dh_alpha[i])
             corner = np.array([-a, 0.0, 0.0])

@@ -5,6 +5,7 @@ joint it is added to d (``d = dh_d + q``).  Robot files are read by :mod:`robot_
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,7 +49,7 @@ class RobotParams:
     ``A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)``; joint i turns about z_{i-1}) or
     ``"modified"`` (Craig: row i = a_{i-1}, α_{i-1}, θ_i, d_i of
     ``A_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i) Tz(d_i)``; joint i turns about z_i).  ``base_tf`` maps frame 0 to the
-    robot's base (world when the robot is not moved), ``endeff_tf`` maps the endeffector
+    robot's base (world when the robot is not moved), ``tool_tf`` maps the endeffector
     (tool) frame to frame n.  Limits are ±inf where a joint is unlimited.  Instances are
     immutable and compare by identity (they key per-robot caches).  ``inertials`` (mass
     properties of each link in its frame) and ``drives`` (motor inertia, gearing, friction,
@@ -72,7 +73,7 @@ class RobotParams:
     q_max: NDArray[np.float64]
     link_com_frac: NDArray[np.float64]
     base_tf: HomogeneousTransform = field(default_factory=HomogeneousTransform)
-    endeff_tf: HomogeneousTransform = field(default_factory=HomogeneousTransform)
+    tool_tf: HomogeneousTransform = field(default_factory=HomogeneousTransform)
     source: str = ""
     description: str = ""
     convention: str = CONVENTION_STANDARD
@@ -111,6 +112,19 @@ class RobotParams:
         """True if the base or any link carries a collision shape."""
         return bool(self.base_collisions) or any(self.collisions)
 
+    @functools.cached_property
+    def size(self) -> float:
+        """The robot's characteristic size [m], the one rule every consumer scales by (IK
+        step scaling, drawn part sizes, estimated link radii): the sum of |a| and of |d| over
+        the joints, a prismatic joint's d taken at its largest finite stroke (its home when
+        unlimited), plus the tool offset.  Computed once per robot."""
+        prismatic = self.jtype == JTYPE_PRISMATIC
+        upper = np.where(np.isfinite(self.q_max), self.q_max, self.q_home)
+        lower = np.where(np.isfinite(self.q_min), self.q_min, self.q_home)
+        reach_d = np.maximum(np.abs(self.dh_d + upper), np.abs(self.dh_d + lower))
+        d = np.where(prismatic, reach_d, np.abs(self.dh_d))
+        return float(np.abs(self.dh_a).sum() + d.sum() + np.linalg.norm(self.tool_tf.mat[:3, 3]))
+
     @property
     def is_modified(self) -> bool:
         """True for a modified (Craig) DH table: joint i turns about z of frame i."""
@@ -134,7 +148,7 @@ class RobotParams:
     @property
     def has_tool(self) -> bool:
         """True if the tool transform is not the identity."""
-        return not np.allclose(self.endeff_tf.mat, np.eye(4))
+        return not np.allclose(self.tool_tf.mat, np.eye(4))
 
     @classmethod
     def from_arrays(
@@ -151,7 +165,7 @@ class RobotParams:
         q_max: Any = None,
         link_com_frac: Any = None,
         base_tf: HomogeneousTransform | None = None,
-        endeff_tf: HomogeneousTransform | None = None,
+        tool_tf: HomogeneousTransform | None = None,
         convention: str = CONVENTION_STANDARD,
         inertials: LinkInertials | None = None,
         drives: Drives | None = None,
@@ -204,7 +218,7 @@ class RobotParams:
             q_max=frozen(q_hi),
             link_com_frac=frozen(com),
             base_tf=_rigid("base_tf", base_tf),
-            endeff_tf=_rigid("endeff_tf", endeff_tf),
+            tool_tf=_rigid("tool_tf", tool_tf),
             convention=convention,
             inertials=inertials,
             drives=drives,

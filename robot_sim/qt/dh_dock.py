@@ -5,7 +5,7 @@ Cells come from :mod:`dh_table` (display units: degrees and metres).  An accepte
 emits ``robot_edited`` with a new immutable RobotParams built through the loader; a
 refused one stays in its cell, tinted, with the reason in the cell's tooltip and under
 the table, and the robot is unchanged.  Save as… writes through
-:func:`robot_writer.save_robot` with the opened file's text as template, so its comments
+:func:`robot_sim.io.robot_writer.save_robot` with the opened file's text as template, so its comments
 and citations are kept (or a URDF through :func:`urdf.to_urdf` for a ``.urdf`` name).  The opened (or saved) file is watched: when it changes on disk
 it is reloaded and ``robot_loaded(robot, True)`` asks the window to keep the joint values.
 """
@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
-from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
 from robot_sim.qt.guard import guarded
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable, variable_column
 from robot_sim.model.params import RobotDefinitionError, RobotParams
@@ -82,19 +82,19 @@ class DHTableDock(QtWidgets.QDockWidget):
             | QtWidgets.QAbstractItemView.EditKeyPressed
             | QtWidgets.QAbstractItemView.AnyKeyPressed
         )
-        self.table.verticalHeader().setDefaultSectionSize(self.table.fontMetrics().height() + gd.DH_ROW_PADDING_PX)
+        self.table.verticalHeader().setDefaultSectionSize(self.table.fontMetrics().height() + qs.DH_ROW_PADDING_PX)
         self.table.setSizeAdjustPolicy(QtWidgets.QAbstractScrollArea.AdjustToContents)
         self.table.setSizePolicy(QtWidgets.QSizePolicy.Expanding, QtWidgets.QSizePolicy.Maximum)
         layout.addWidget(self.table)
         self.error_label = QtWidgets.QLabel()
-        self.error_label.setStyleSheet(gd.DH_ERROR_STYLE)
+        self.error_label.setStyleSheet(qs.DH_ERROR_STYLE)
         self.error_label.setWordWrap(True)
         layout.addWidget(self.error_label)
         self.setWidget(panel)
         self.watcher = QtCore.QFileSystemWatcher(self)
         self.reload_timer = QtCore.QTimer(self)
         self.reload_timer.setSingleShot(True)
-        self.reload_timer.setInterval(gd.DH_RELOAD_DELAY_MS)
+        self.reload_timer.setInterval(qs.DH_RELOAD_DELAY_MS)
         self.open_button.clicked.connect(lambda _checked: self.open_dialog())
         self.save_button.clicked.connect(lambda _checked: self.save_dialog())
         self.table.itemChanged.connect(self.cell_changed)
@@ -115,7 +115,7 @@ class DHTableDock(QtWidgets.QDockWidget):
                 item = QtWidgets.QTableWidgetItem(cell_text(robot, self.q, row, column))
                 if not is_editable(robot, row, column):
                     item.setFlags(item.flags() & ~Qt.ItemIsEditable)
-                    item.setBackground(QtGui.QColor(*gd.DH_VARIABLE_CELL_RGB))
+                    item.setBackground(QtGui.QColor(*qs.DH_VARIABLE_CELL_RGB))
                     item.setToolTip(f"joint variable q{row + 1}: move it with the joint slider or box")
                 self.table.setItem(row, col, item)
         self._filling = False
@@ -163,7 +163,7 @@ class DHTableDock(QtWidgets.QDockWidget):
             edited = edit_cell(self.robot, row, column, item.text())
         except ValueError as exc:
             self._filling = True
-            item.setBackground(QtGui.QColor(*gd.DH_INVALID_CELL_RGB))
+            item.setBackground(QtGui.QColor(*qs.DH_INVALID_CELL_RGB))
             item.setToolTip(f"refused: {exc}")
             self._filling = False
             self.error_label.setText(f"refused: {exc}")
@@ -176,7 +176,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         self.joint_selected.emit(self.selected_joint())
 
     def report_error(self, text: str) -> None:
-        """Where guarded slots report an unexpected exception (see _qt_guard)."""
+        """Where guarded slots report an unexpected exception (see robot_sim.qt.guard)."""
         self.message.emit(text)
 
     # ---- files ----

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from PyQt5 import QtCore, QtWidgets
 from PyQt5.QtCore import Qt
 
-from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.viewer.session import display_range, display_scale, wrap_display
 
@@ -26,13 +26,13 @@ class JointRow:
 
     def __init__(self, robot: RobotParams, joint: int, layout: QtWidgets.QGridLayout) -> None:
         prismatic = bool(robot.jtype[joint] == JTYPE_PRISMATIC)
-        self.ticks = gd.SLIDER_TICKS_PER_M if prismatic else gd.SLIDER_TICKS_PER_DEG
+        self.ticks = qs.SLIDER_TICKS_PER_M if prismatic else qs.SLIDER_TICKS_PER_DEG
         lo, hi = (float(v[joint]) for v in display_range(robot))
-        unit = gd.JOINT_UNIT_PRISMATIC if prismatic else gd.JOINT_UNIT_REVOLUTE
+        unit = qs.JOINT_UNIT_PRISMATIC if prismatic else qs.JOINT_UNIT_REVOLUTE
         limited = math.isfinite(robot.q_min[joint]) or math.isfinite(robot.q_max[joint])
-        self.name = QtWidgets.QLabel(f"joint {joint + 1}" + ("" if limited else gd.JOINT_UNLIMITED_MARK))
+        self.name = QtWidgets.QLabel(f"joint {joint + 1}" + ("" if limited else qs.JOINT_UNLIMITED_MARK))
         self.box = QtWidgets.QDoubleSpinBox()
-        self.box.setDecimals(gd.JOINT_BOX_DECIMALS_PRISMATIC if prismatic else gd.JOINT_BOX_DECIMALS_REVOLUTE)
+        self.box.setDecimals(qs.JOINT_BOX_DECIMALS_PRISMATIC if prismatic else qs.JOINT_BOX_DECIMALS_REVOLUTE)
         self.box.setRange(lo, hi)
         self.box.setSingleStep(1.0 / self.ticks * 10)
         self.box.setSuffix(unit)
@@ -44,7 +44,7 @@ class JointRow:
         self.low = QtWidgets.QLabel(f"{lo:g}{unit}")
         self.high = QtWidgets.QLabel(f"{hi:g}{unit}")
         for label in (self.low, self.high):
-            label.setStyleSheet(gd.JOINT_LIMIT_LABEL_STYLE)
+            label.setStyleSheet(qs.JOINT_LIMIT_LABEL_STYLE)
         row = 2 * joint
         layout.addWidget(self.name, row, 0, 1, 2)
         layout.addWidget(self.box, row, 2)

@@ -4,7 +4,7 @@ The chooser lists control.MOTION_MODES (the window's ``Shift+M`` steps through i
 show each joint's applied effort as a fraction of its effort limit (motion.Motion's
 ``effort_scale`` for a joint without one), red while the drive saturates, and a joint's
 number flashes after it hits a joint limit.  Qt widgets only: the physics lives in
-motion.py and simulation.py.
+motion.py and robot_sim/control/simulation.py.
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import numpy as np
 from PyQt5 import QtCore, QtWidgets
 from PyQt5.QtCore import Qt
 
-from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
 
 
@@ -52,8 +52,8 @@ class MotionPanel(QtWidgets.QWidget):
         for i in range(n_joints):
             label = QtWidgets.QLabel(f"{i + 1}")
             bar = QtWidgets.QProgressBar()
-            bar.setRange(0, gd.EFFORT_BAR_STEPS)
-            bar.setFixedHeight(gd.EFFORT_BAR_HEIGHT_PX)
+            bar.setRange(0, qs.EFFORT_BAR_STEPS)
+            bar.setFixedHeight(qs.EFFORT_BAR_HEIGHT_PX)
             self.grid.addWidget(label, i, 0)
             self.grid.addWidget(bar, i, 1)
             self.labels.append(label)
@@ -70,27 +70,27 @@ class MotionPanel(QtWidgets.QWidget):
 
     def flash(self, joint: int) -> None:
         """Flash joint ``joint``'s number (it hit a limit)."""
-        self.flash_until[joint] = time.monotonic() + gd.LIMIT_FLASH_MS / 1000.0
+        self.flash_until[joint] = time.monotonic() + qs.LIMIT_FLASH_MS / 1000.0
 
     def sync(self, motion: Any | None) -> None:
         """Bars from ``motion`` (a motion.Motion, or None in kinematic mode) and flashes."""
         now = time.monotonic()
         for i, label in enumerate(self.labels):
             flashing = self.flash_until.get(i, 0.0) > now
-            _restyle(label, f"color: {gd.LIMIT_FLASH_COLOR}; font-weight: bold" if flashing else "")
+            _restyle(label, f"color: {qs.LIMIT_FLASH_COLOR}; font-weight: bold" if flashing else "")
         if motion is None or not motion.physical:
             return
         fraction = motion.effort_fraction()
         saturated = motion.sim.saturated
         for i, bar in enumerate(self.bars):
-            bar.setValue(round(min(abs(fraction[i]), 1.0) * gd.EFFORT_BAR_STEPS))
-            bar.setFormat(gd.EFFORT_BAR_FORMAT.format(percent=100.0 * fraction[i]))
-            color = gd.EFFORT_BAR_SATURATED_COLOR if saturated[i] else gd.EFFORT_BAR_COLOR
+            bar.setValue(round(min(abs(fraction[i]), 1.0) * qs.EFFORT_BAR_STEPS))
+            bar.setFormat(qs.EFFORT_BAR_FORMAT.format(percent=100.0 * fraction[i]))
+            color = qs.EFFORT_BAR_SATURATED_COLOR if saturated[i] else qs.EFFORT_BAR_COLOR
             _restyle(bar, f"QProgressBar::chunk {{ background: {color}; }}")
 
     def fractions(self) -> np.ndarray:
         """The bars' values as fractions (for tests and screenshots)."""
-        return np.array([bar.value() / gd.EFFORT_BAR_STEPS for bar in self.bars])
+        return np.array([bar.value() / qs.EFFORT_BAR_STEPS for bar in self.bars])
 
 
 def _restyle(widget: QtWidgets.QWidget, style: str) -> None:

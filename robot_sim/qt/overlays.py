@@ -15,20 +15,21 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
 from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
 
 
 def help_rows() -> list[tuple[str, str]]:
     """(keys, description) rows from KEY_BINDINGS then MOUSE_BINDINGS; consecutive
     bindings with the same description share a row ("W / S", "1 .. 9")."""
     groups: list[tuple[list[str], str]] = []
-    for key, mods, _action, _arg, text in gd.KEY_BINDINGS:
+    for key, mods, _action, _arg, text in qs.KEY_BINDINGS:
         name = f"{mods}+{key}" if mods else key
         if groups and groups[-1][1] == text:
             groups[-1][0].append(name)
         else:
             groups.append(([name], text))
     rows = [(" / ".join(names) if len(names) <= 2 else f"{names[0]} .. {names[-1]}", text) for names, text in groups]
-    return rows + list(gd.MOUSE_BINDINGS)
+    return rows + list(qs.MOUSE_BINDINGS)
 
 
 def help_lines() -> list[str]:
@@ -55,14 +56,14 @@ class HelpOverlay(QtWidgets.QScrollArea):
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
         self.setStyleSheet(
             "QScrollArea {background: transparent;}"
-            " QLabel {color: rgb(%d, %d, %d);" % gd.HELP_TEXT_RGB
-            + " background: rgba(%d, %d, %d, %d);}" % gd.HELP_BACKGROUND_RGBA
+            " QLabel {color: rgb(%d, %d, %d);" % qs.HELP_TEXT_RGB
+            + " background: rgba(%d, %d, %d, %d);}" % qs.HELP_BACKGROUND_RGBA
         )
         self.label = QtWidgets.QLabel()
         self.label.setTextFormat(Qt.RichText)
         self.label.setAlignment(Qt.AlignLeft | Qt.AlignTop)
-        self.label.setMargin(gd.HELP_MARGIN_PX)
-        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.HELP_FONT_PT)
+        self.label.setMargin(qs.HELP_MARGIN_PX)
+        font = QtGui.QFont(qs.HELP_FONT_FAMILY, qs.HELP_FONT_PT)
         font.setStyleHint(QtGui.QFont.TypeWriter)
         self.label.setFont(font)
         self.viewport().setAutoFillBackground(False)
@@ -74,7 +75,7 @@ class HelpOverlay(QtWidgets.QScrollArea):
         """Lay the rows out for ``area`` (the window's client rectangle) and take its
         top-left part: as much as the text needs, scrolling what is taller than ``area``."""
         scrollbar = self.verticalScrollBar().sizeHint().width()
-        for columns in range(gd.HELP_MAX_COLUMNS, 0, -1):  # the most column pairs that fit
+        for columns in range(qs.HELP_MAX_COLUMNS, 0, -1):  # the most column pairs that fit
             self.columns = columns
             self.label.setText(self.table_html(columns))
             if self.label.sizeHint().width() + scrollbar <= area.width():
@@ -88,7 +89,7 @@ class HelpOverlay(QtWidgets.QScrollArea):
         """The rows as an HTML table of ``columns`` (keys, description) pairs."""
         rows = help_rows()
         per_column = -(-len(rows) // columns)
-        cell = f'style="padding-right: {gd.HELP_COLUMN_GAP_PX}px; white-space: pre"'
+        cell = f'style="padding-right: {qs.HELP_COLUMN_GAP_PX}px; white-space: pre"'
         lines = []
         for r in range(per_column):
             cells = []
@@ -127,7 +128,7 @@ class ViewInfoOverlay(QtWidgets.QWidget):
 
     def status_text(self) -> str:
         """The bottom-left line."""
-        parts = [gd.VIEW_INFO_GRID_FORMAT.format(step=self.info.grid_step),
+        parts = [qs.VIEW_INFO_GRID_FORMAT.format(step=self.info.grid_step),
                  "orthographic" if self.info.orthographic else "perspective"]
         if self.info.following:
             parts.append("following the endeffector")
@@ -135,17 +136,17 @@ class ViewInfoOverlay(QtWidgets.QWidget):
 
     def legend_rect(self) -> QtCore.QRect:
         """Where the colour bar is drawn (widget pixels)."""
-        w, h = gd.LEGEND_BAR_SIZE_PX
-        margin = gd.VIEW_INFO_MARGIN_PX
-        return QtCore.QRect(self.width() - margin - w, self.height() - margin - h - gd.LEGEND_TEXT_PX, w, h)
+        w, h = qs.LEGEND_BAR_SIZE_PX
+        margin = qs.VIEW_INFO_MARGIN_PX
+        return QtCore.QRect(self.width() - margin - w, self.height() - margin - h - qs.LEGEND_TEXT_PX, w, h)
 
     def paintEvent(self, event: QtGui.QPaintEvent) -> None:
         painter = QtGui.QPainter(self)
         font = painter.font()
-        font.setPixelSize(gd.LEGEND_TEXT_PX)
+        font.setPixelSize(qs.LEGEND_TEXT_PX)
         painter.setFont(font)
-        painter.setPen(QtGui.QColor(*gd.VIEW_INFO_TEXT_RGB))
-        margin = gd.VIEW_INFO_MARGIN_PX
+        painter.setPen(QtGui.QColor(*qs.VIEW_INFO_TEXT_RGB))
+        margin = qs.VIEW_INFO_MARGIN_PX
         painter.drawText(margin, self.height() - margin, self.status_text())
         if self.info.cloud_range is not None:
             self._paint_legend(painter)
@@ -159,9 +160,9 @@ class ViewInfoOverlay(QtWidgets.QWidget):
         painter.fillRect(rect, gradient)
         painter.drawRect(rect)
         lo, hi = self.info.cloud_range
-        text_y = rect.bottom() + gd.LEGEND_TEXT_PX + 2
+        text_y = rect.bottom() + qs.LEGEND_TEXT_PX + 2
         painter.drawText(rect.left(), text_y, f"{lo:.3g}")
         high = f"{hi:.3g}"
         painter.drawText(rect.right() - painter.fontMetrics().horizontalAdvance(high), text_y, high)
-        title = gd.LEGEND_TITLE
+        title = qs.LEGEND_TITLE
         painter.drawText(rect.center().x() - painter.fontMetrics().horizontalAdvance(title) // 2, rect.top() - 4, title)

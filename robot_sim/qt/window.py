@@ -1,15 +1,15 @@
 """The Qt window of robot-sim: main window, GL view, docks, key and mouse input.
 
 The widgets the window is built from have their own modules: the joint panel
-(``_win_joints``), the DH table dock with Open…/Save as… and the file watch
-(``_win_dh_dock``), the help overlay and the view's corner information
-(``_win_overlays``).
+(``robot_sim.qt.joints``), the DH table dock with Open…/Save as… and the file watch
+(``robot_sim.qt.dh_dock``), the help overlay and the view's corner information
+(``robot_sim.qt.overlays``).
 
 PyQt5 is imported here, at the top, and this module is imported only when a window is
 opened (``simulator.launch``), so ``--screenshot`` never loads Qt.  The window shows a
-:class:`viewer_state.ViewerSession` and paints it with the one render path
-``graphics_objects.render_scene``; keys are dispatched through ``KEY_BINDINGS``
-(graphics_defs.py): one handler per action name, called with the row's argument.
+:class:`robot_sim.viewer.session.ViewerSession` and paints it with the one render path
+``robot_sim.graphics.render_scene``; keys are dispatched through ``KEY_BINDINGS``
+(robot_sim.graphics.defs.py): one handler per action name, called with the row's argument.
 """
 from __future__ import annotations
 
@@ -27,6 +27,8 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
 from robot_sim.graphics import defs as gd
+from robot_sim.qt import settings as qs
+from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 from robot_sim.qt.guard import guarded, install_excepthook
 from robot_sim.qt.pick_panel import PickPanel, PlotDock
@@ -68,7 +70,7 @@ class WindowOptions:
     chooser keeps (``bandwidth``, ``damping``)."""
 
     robot_arg: str
-    size: tuple[int, int] = gd.WINDOW_DEFAULT_SIZE
+    size: tuple[int, int] = vs.WINDOW_DEFAULT_SIZE
     workspace: int = 0
     circle_demo: bool = False
     message: str | None = None
@@ -113,12 +115,12 @@ class GLView(QtWidgets.QOpenGLWidget):
     def fps_text(self) -> str:
         """Frame rate over the paints of the last FPS_WINDOW_S seconds ("idle" if < 2)."""
         now = time.monotonic()
-        while self.paint_times and now - self.paint_times[0] > gd.FPS_WINDOW_S:
+        while self.paint_times and now - self.paint_times[0] > qs.FPS_WINDOW_S:
             self.paint_times.popleft()
         span = self.paint_times[-1] - self.paint_times[0] if len(self.paint_times) >= 2 else 0.0
         if span <= 0.0:
-            return gd.STATUS_FPS_IDLE
-        return gd.STATUS_FPS_FORMAT.format(fps=(len(self.paint_times) - 1) / span)
+            return qs.STATUS_FPS_IDLE
+        return qs.STATUS_FPS_FORMAT.format(fps=(len(self.paint_times) - 1) / span)
 
     @guarded
     def paintGL(self) -> None:
@@ -168,7 +170,7 @@ class GLView(QtWidgets.QOpenGLWidget):
     @guarded
     def wheelEvent(self, event: QtGui.QWheelEvent) -> None:
         notches = event.angleDelta().y() / 120.0  # > 0: wheel turned away, zoom in
-        self.window_.zoom(gd.WHEEL_ZOOM_FACTOR ** -notches)
+        self.window_.zoom(qs.WHEEL_ZOOM_FACTOR ** -notches)
 
 
 class MainWindow(QtWidgets.QMainWindow):
@@ -195,7 +197,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.setCentralWidget(self.view)
         self.help = HelpOverlay(self)
         self.timer = QtCore.QTimer(self)
-        self.timer.setInterval(gd.ANIM_INTERVAL_MS)
+        self.timer.setInterval(qs.ANIM_INTERVAL_MS)
         self.timer.timeout.connect(self.tick)
         self.workspace_ready.connect(self.on_workspace_ready, QtCore.Qt.QueuedConnection)
         self.message_label = QtWidgets.QLabel()
@@ -208,7 +210,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.build_dock()
         self.build_dh_dock()
         self.actions = self.build_actions()
-        self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in gd.KEY_BINDINGS}
+        self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in qs.KEY_BINDINGS}
         self.resize(*options.size)
         self.robot_changed()
         if options.workspace:
@@ -247,7 +249,7 @@ class MainWindow(QtWidgets.QMainWindow):
         scroll.setWidget(self.joints)
         layout.addWidget(scroll, 3)
         self.readout = QtWidgets.QLabel()
-        font = QtGui.QFont(gd.HELP_FONT_FAMILY, gd.READOUT_FONT_PT)
+        font = QtGui.QFont(qs.HELP_FONT_FAMILY, qs.READOUT_FONT_PT)
         font.setStyleHint(QtGui.QFont.TypeWriter)
         self.readout.setFont(font)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
@@ -261,7 +263,7 @@ class MainWindow(QtWidgets.QMainWindow):
         for widget in (self.robot_combo, scroll, self.frames_list):
             widget.setFocusPolicy(Qt.NoFocus)  # keys stay with the GL view
         dock.setWidget(panel)
-        dock.setMinimumWidth(gd.DOCK_MIN_WIDTH)
+        dock.setMinimumWidth(qs.DOCK_MIN_WIDTH)
         self.addDockWidget(Qt.RightDockWidgetArea, dock)
 
     def build_dh_dock(self) -> None:
@@ -349,20 +351,20 @@ class MainWindow(QtWidgets.QMainWindow):
     def refresh_status(self) -> None:
         text = self.session.status_text(self.view.fps_text())
         if self.workspace.state != IDLE:
-            text += gd.STATUS_WORKSPACE_FORMAT.format(state=self.workspace.state)
+            text += qs.STATUS_WORKSPACE_FORMAT.format(state=self.workspace.state)
         self.status.setText(text)
 
     def report_error(self, text: str) -> None:
-        """Show an error caught at the Qt boundary (_qt_guard) in the status bar."""
+        """Show an error caught at the Qt boundary (robot_sim.qt.guard) in the status bar."""
         self.last_error = text
-        self.message(text, gd.STATUS_ERROR_MS)
+        self.message(text, qs.STATUS_ERROR_MS)
 
     def message(self, text: str, duration_ms: int | None = None) -> None:
         """Show ``text`` left of the permanent status for ``duration_ms`` (default
         STATUS_MESSAGE_MS)."""
         self.message_label.setText(text)
         self.message_label.setToolTip(text)
-        self.message_timer.start(gd.STATUS_MESSAGE_MS if duration_ms is None else duration_ms)
+        self.message_timer.start(qs.STATUS_MESSAGE_MS if duration_ms is None else duration_ms)
 
     # ---- robots: chooser, DH edits, files ----
     @guarded
@@ -530,7 +532,7 @@ class MainWindow(QtWidgets.QMainWindow):
             "open_robot": lambda _: self.dh_dock.open_dialog(),
             "save_robot_as": lambda _: self.dh_dock.save_dialog(),
         }
-        missing = {row[2] for row in gd.KEY_BINDINGS} - actions.keys()
+        missing = {row[2] for row in qs.KEY_BINDINGS} - actions.keys()
         if missing:
             raise RuntimeError(f"KEY_BINDINGS actions without a handler: {sorted(missing)}")
         return actions
@@ -557,7 +559,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def act_view_preset(self, name: str) -> None:
         """Look from the front, side, top or iso direction (VIEW_PRESETS)."""
-        self.session.camera.set_view(*gd.VIEW_PRESETS[name])
+        self.session.camera.set_view(*qs.VIEW_PRESETS[name])
         self.message(f"view: {name}")
 
     def act_toggle_orthographic(self, _: None) -> None:
@@ -604,11 +606,11 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def act_zoom(self, steps: int) -> None:
         """Multiply the camera distance by KEY_ZOOM_FACTOR ** ``steps`` (< 0 zooms in)."""
-        self.zoom(gd.KEY_ZOOM_FACTOR ** steps)
+        self.zoom(qs.KEY_ZOOM_FACTOR ** steps)
 
     def act_orbit(self, steps: tuple[int, int]) -> None:
         """Orbit by (azimuth, elevation) steps of KEY_ORBIT_STEP_DEG."""
-        self.session.camera.orbit(steps[0] * gd.KEY_ORBIT_STEP_DEG, steps[1] * gd.KEY_ORBIT_STEP_DEG)
+        self.session.camera.orbit(steps[0] * qs.KEY_ORBIT_STEP_DEG, steps[1] * qs.KEY_ORBIT_STEP_DEG)
 
     def act_reset_view(self, _: None) -> None:
         self.session.fit_camera()
@@ -633,12 +635,12 @@ class MainWindow(QtWidgets.QMainWindow):
     def act_move_target(self, axis_sign: tuple[int, int]) -> None:
         """Move the IK target by TARGET_STEP_M along world axis ``axis`` (0..2) times ``sign``."""
         axis, sign = axis_sign
-        self.move_target_by(lambda: self.session.move_target(translation=sign * gd.TARGET_STEP_M * np.eye(3)[axis]))
+        self.move_target_by(lambda: self.session.move_target(translation=sign * qs.TARGET_STEP_M * np.eye(3)[axis]))
 
     def act_rotate_target(self, axis_sign: tuple[int, int]) -> None:
         """Rotate the IK target by TARGET_STEP_DEG about world axis ``axis`` times ``sign``."""
         axis, sign = axis_sign
-        step = sign * math.radians(gd.TARGET_STEP_DEG) * np.eye(3)[axis]
+        step = sign * math.radians(qs.TARGET_STEP_DEG) * np.eye(3)[axis]
         self.move_target_by(lambda: self.session.move_target(rpy=step))
 
     def zoom(self, factor: float) -> None:
@@ -654,7 +656,7 @@ class MainWindow(QtWidgets.QMainWindow):
         elif buttons & Qt.LeftButton and modifiers & Qt.ControlModifier:
             self.move_target_by(lambda: self.session.move_target_in_view(dx, dy, self.view.pixel_size()[1]))
         elif buttons & Qt.LeftButton:
-            self.session.camera.orbit(-dx * gd.MOUSE_ORBIT_DEG_PER_PX, dy * gd.MOUSE_ORBIT_DEG_PER_PX)
+            self.session.camera.orbit(-dx * qs.MOUSE_ORBIT_DEG_PER_PX, dy * qs.MOUSE_ORBIT_DEG_PER_PX)
         elif buttons & (Qt.RightButton | Qt.MiddleButton):
             self.session.camera.pan(dx, dy, self.view.pixel_size()[1])
         self.view.update()
@@ -696,13 +698,13 @@ class MainWindow(QtWidgets.QMainWindow):
         elapsed = now - self.last_tick
         # the simulation keeps wall-clock time itself (Simulation.advance caps a lag);
         # the kinematic animation takes bounded steps
-        dt = elapsed if self.session.physical else min(max(elapsed, 1e-3), 4 * gd.ANIM_INTERVAL_MS / 1000.0)
+        dt = elapsed if self.session.physical else min(max(elapsed, 1e-3), 4 * qs.ANIM_INTERVAL_MS / 1000.0)
         self.last_tick = now
         self.session.step(dt)
         if not self.session.moving():
             self.timer.stop()
             # once the last paints are older than the fps window the status says idle
-            QtCore.QTimer.singleShot(round(gd.FPS_WINDOW_S * 1000) + 50, self.refresh_status)
+            QtCore.QTimer.singleShot(round(qs.FPS_WINDOW_S * 1000) + 50, self.refresh_status)
         self.sync_widgets()
 
     # ---- pick demo: playback dock and plots ----
@@ -714,7 +716,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.addDockWidget(Qt.BottomDockWidgetArea, self.plot_dock)
             self.addDockWidget(Qt.BottomDockWidgetArea, self.pick_panel)
             self.splitDockWidget(self.plot_dock, self.pick_panel, Qt.Vertical)
-            self.resizeDocks([self.plot_dock], [round(self.height() * gd.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
+            self.resizeDocks([self.plot_dock], [round(self.height() * qs.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
         self.plot_dock.show_trajectory(self.session.pick.plan.trajectory, self.session.pick.effort)
         self.sync_pick()
         self.start_motion()
@@ -770,8 +772,8 @@ class MainWindow(QtWidgets.QMainWindow):
         needed, written atomically); the status bar says where."""
         stamp = time.strftime("%Y%m%d-%H%M%S") + f"-{int(time.time() * 1000) % 1000:03d}"
         stem = self.dh_dock.path.stem if self.dh_dock.path is not None else "robot"
-        folder = Path.cwd() / gd.SCREENSHOT_DIR
-        path = folder / gd.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
+        folder = Path.cwd() / qs.SCREENSHOT_DIR
+        path = folder / qs.SCREENSHOT_NAME_FORMAT.format(robot=stem, stamp=stamp)
         try:
             folder.mkdir(exist_ok=True)
         except OSError as exc:
@@ -790,7 +792,7 @@ class MainWindow(QtWidgets.QMainWindow):
     def act_toggle_workspace(self, _: None = None) -> None:
         """E: compute the cloud (in the background), cancel a computation, or show/hide
         the finished cloud (workspace_job.WorkspaceJob.toggle)."""
-        self.workspace.toggle(self.session.robot, self.options.workspace or gd.WORKSPACE_DEFAULT_POINTS)
+        self.workspace.toggle(self.session.robot, self.options.workspace or qs.WORKSPACE_DEFAULT_POINTS)
         self.show_workspace_state()
 
     @guarded

@@ -5,8 +5,8 @@ revolute joint θ = offset + q and d is a constant, for a prismatic joint d = of
 and θ is a constant; the cell holding the joint variable is read-only (sliders and boxes
 move joints) and ``offset`` is the file's constant part of it (``theta`` of a revolute
 joint, ``d`` of a prismatic one).  Angles are shown and typed in degrees, lengths in
-metres.  An edit becomes a new :class:`~robot_defs.RobotParams` through
-:func:`robot_writer.with_dh_value`, so a value is accepted exactly when the saved file
+metres.  An edit becomes a new :class:`~robot_sim.model.params.RobotParams` through
+:func:`robot_sim.io.robot_writer.with_dh_value`, so a value is accepted exactly when the saved file
 would load; otherwise :class:`ValueError` carries the reason to show in place.
 """
 from __future__ import annotations
@@ -118,7 +118,7 @@ def edit_cell(robot: RobotParams, row: int, column: str, text: str) -> RobotPara
 
     ValueError ``"joint N COLUMN: reason"`` for a read-only cell, text that is not a value
     of the column, or a value the robot file would refuse (see
-    :func:`robot_writer.with_dh_value`; limits and home in the file's units).
+    :func:`robot_sim.io.robot_writer.with_dh_value`; limits and home in the file's units).
     """
     if column not in COLUMNS:
         raise ValueError(f"column must be one of {', '.join(COLUMNS)}, got {column!r}")

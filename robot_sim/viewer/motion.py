@@ -1,5 +1,5 @@
 """How a viewer's arm moves, without Qt: kinematically (joints follow the desired values)
-or physically (a :class:`simulation.Simulation` driven by one of control.py's controllers).
+or physically (a :class:`simulation.Simulation` driven by one of robot_sim/control/controllers.py's controllers).
 
 :class:`Motion` owns the mode (:data:`control.MOTION_MODES`), the gains and the
 simulation of one robot and its :class:`~robot_state.RobotState`.  In a physical mode the
@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.dynamics import GRAVITY
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES, Gains, control_gains, make_controller
 from robot_sim.model.estimate import estimate_inertials
 from robot_sim.kinematics import forward_kinematics, random_configurations
@@ -33,7 +34,6 @@ FloatArray = NDArray[np.float64]
 #: hanging on the spring.
 PULL_STRETCH_M = 0.2
 PULL_DAMPING_RATIO = 0.5
-GRAVITY = 9.81
 #: Configurations sampled for the effort bars' scale of joints without an effort limit.
 EFFORT_SCALE_SAMPLES = 256
 EFFORT_SCALE_SEED = 8
@@ -55,7 +55,7 @@ class Motion:
         self.mode = "kinematic"
         self.pull_point: FloatArray | None = None
         mass = float(np.sum(self.robot.inertials.mass))
-        self.pull_stiffness = mass * GRAVITY / PULL_STRETCH_M
+        self.pull_stiffness = mass * float(np.linalg.norm(GRAVITY)) / PULL_STRETCH_M
         self.pull_damping = 2.0 * PULL_DAMPING_RATIO * math.sqrt(self.pull_stiffness * mass)
         self.effort_scale = self._effort_scale()
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim.graphics.items.task import TaskScene
 from robot_sim.planning.pick_task import SceneState, TaskPlan, default_plan, plan_pick
 from robot_sim.model.params import RobotParams
@@ -71,7 +71,7 @@ class PickDemo:
         endeffector path."""
         state = self.state() if state is None else state
         spec = self.plan.spec
-        path = self.plan.trajectory.poses[:: gd.PATH_SAMPLE_STEP, :3, 3]
+        path = self.plan.trajectory.poses[:: vs.PATH_SAMPLE_STEP, :3, 3]
         path = np.vstack([path, self.plan.trajectory.poses[-1:, :3, 3]])
         return TaskScene(
             table_top=np.array(spec.table_top), table_size=np.array(spec.table_size),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim.transforms import HomogeneousTransform, quaternion_from_rot, rpy_from_rot
 
 
@@ -17,4 +17,4 @@ def pose_readout(endeff_tf: HomogeneousTransform, manipulability: float) -> str:
     values = dict(x=x, y=y, z=z, roll=roll, pitch=pitch, yaw=yaw, qw=qw, qx=qx, qy=qy, qz=qz)
     # rounding noise of exact zeros would print as "-0.0000"
     clean = {key: round(float(v), 9) + 0.0 for key, v in values.items()}
-    return gd.READOUT_FORMAT.format(m=manipulability, **clean)
+    return vs.READOUT_FORMAT.format(m=manipulability, **clean)

@@ -13,11 +13,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 
 #: A frame's file name (``RECORD_FRAME_FORMAT``) with its index as group 1.
-_FRAME_NAME = re.compile(re.escape(gd.RECORD_FRAME_FORMAT.split("{")[0]) + r"(\d+)" + re.escape(gd.RECORD_FRAME_FORMAT.split("}")[1]))
+_FRAME_NAME = re.compile(re.escape(vs.RECORD_FRAME_FORMAT.split("{")[0]) + r"(\d+)" + re.escape(vs.RECORD_FRAME_FORMAT.split("}")[1]))
 
 try:
     import imageio_ffmpeg
@@ -34,7 +34,7 @@ class _Mp4:
         self.tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp.mp4")
         # macro_block_size 2: H.264's yuv420p needs even sizes (odd ones are rounded up)
         self.writer: Any = imageio_ffmpeg.write_frames(
-            str(self.tmp), size, fps=fps, quality=gd.RECORD_VIDEO_QUALITY, macro_block_size=2,
+            str(self.tmp), size, fps=fps, quality=vs.RECORD_VIDEO_QUALITY, macro_block_size=2,
         )
         self.writer.send(None)
 
@@ -64,7 +64,7 @@ def frame_times(duration: float, fps: float) -> list[float]:
 def record(
     session, out_dir: Path, duration: float, fps: float, size: tuple[int, int]
 ) -> tuple[list[Path], Path | None]:
-    """Render ``session`` (a viewer_state.ViewerSession) at each of :func:`frame_times` into
+    """Render ``session`` (a robot_sim.viewer.session.ViewerSession) at each of :func:`frame_times` into
     ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
     imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
     paths and the video's (None without the extra).  Higher-numbered frames an earlier,
@@ -77,7 +77,7 @@ def record(
     start = session.pick.time if session.pick is not None else 0.0
     paths = []
     go.require_osmesa_platform()
-    video = _Mp4(out_dir / gd.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
+    video = _Mp4(out_dir / vs.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
     try:
         with go.OffscreenRenderer(*size) as renderer:
             for index, t in enumerate(times):
@@ -86,7 +86,7 @@ def record(
                 elif index:
                     session.step(1.0 / fps)
                 image = renderer.render(session.camera, session.scene(), session.options)
-                path = out_dir / gd.RECORD_FRAME_FORMAT.format(index=index)
+                path = out_dir / vs.RECORD_FRAME_FORMAT.format(index=index)
                 go.save_png(path, image)
                 paths.append(path)
                 if video is not None:

@@ -1,8 +1,8 @@
 """What a viewer shows, without Qt: :class:`ViewerSession` holds one robot's current and
 desired joint state, their kinematics, the camera, the graphics options, the IK target,
-the circle demo and the workspace cloud, and turns them into a ``graphics_objects.Scene``.
+the circle demo and the workspace cloud, and turns them into a ``robot_sim.graphics.Scene``.
 
-The Qt window (window.py) and the offscreen screenshot (_cli.py) both show a session;
+The Qt window (robot_sim/qt/window.py) and the offscreen screenshot (robot_sim.app.cli.py) both show a session;
 ``--screenshot`` renders one through OSMesa without importing Qt at all.
 
 Units: joint values are radians (revolute) and metres (prismatic) inside; the command
@@ -18,6 +18,7 @@ from typing import Any, Callable
 import numpy as np
 
 from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 from robot_sim.kinematics import (
     IKResult,
@@ -50,7 +51,7 @@ def display_range(robot: RobotParams) -> tuple[np.ndarray, np.ndarray]:
     ±UNLIMITED_PRISMATIC_RANGE_M for prismatic joints.
     """
     prismatic = robot.jtype == JTYPE_PRISMATIC
-    default = np.where(prismatic, gd.UNLIMITED_PRISMATIC_RANGE_M, gd.UNLIMITED_REVOLUTE_RANGE_DEG)
+    default = np.where(prismatic, vs.UNLIMITED_PRISMATIC_RANGE_M, vs.UNLIMITED_REVOLUTE_RANGE_DEG)
     scale = display_scale(robot)
     lo = np.where(np.isfinite(robot.q_min), robot.q_min * scale, -default)
     hi = np.where(np.isfinite(robot.q_max), robot.q_max * scale, default)
@@ -72,8 +73,8 @@ class DemoCircle:
     """Endeffector circle in the horizontal world plane through its start position (m, s)."""
 
     center: np.ndarray
-    radius: float = gd.DEMO_CIRCLE_RADIUS_M
-    period: float = gd.DEMO_CIRCLE_PERIOD_S
+    radius: float = vs.DEMO_CIRCLE_RADIUS_M
+    period: float = vs.DEMO_CIRCLE_PERIOD_S
     time: float = 0.0
 
     def point_and_velocity(self) -> tuple[np.ndarray, np.ndarray]:
@@ -137,7 +138,7 @@ class ViewerSession:
         self.ghost.update(self.state.joint_state_des)
 
     def fit_camera(self, on_annotation: bool = False) -> None:
-        """Reset the camera and frame everything drawn (``graphics_objects.visible_points``):
+        """Reset the camera and frame everything drawn (``robot_sim.graphics.visible_points``):
         the arm at its current pose, the floor under its base, the drawn frames, the IK
         target and the workspace cloud when shown (world, m).  With ``on_annotation`` and
         a joint annotated, frame that joint's DH annotation and its two frames only, so
@@ -204,14 +205,14 @@ class ViewerSession:
             return self.motion.sim.stopped is None
         if self.demo is not None:
             return True
-        return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > gd.ANIM_ARRIVED_TOL))
+        return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > vs.ANIM_ARRIVED_TOL))
 
     def step_animation(self, dt: float) -> None:
         """Move the current q toward the desired q at bounded joint speed for ``dt`` s."""
         q, q_des = self.state.q(), self.state.q_des()
-        speed = np.where(self.robot.jtype == JTYPE_PRISMATIC, gd.ANIM_SPEED_PRISMATIC, gd.ANIM_SPEED_REVOLUTE)
+        speed = np.where(self.robot.jtype == JTYPE_PRISMATIC, vs.ANIM_SPEED_PRISMATIC, vs.ANIM_SPEED_REVOLUTE)
         step = np.clip(q_des - q, -speed * dt, speed * dt)
-        arrived = np.all(np.abs(q_des - q) <= np.maximum(speed * dt, gd.ANIM_ARRIVED_TOL))
+        arrived = np.all(np.abs(q_des - q) <= np.maximum(speed * dt, vs.ANIM_ARRIVED_TOL))
         self.state.set_q(q_des if arrived else q + step)
         self.state.set_qd(np.zeros_like(q) if arrived else step / dt)
         self.update_kinematics()
@@ -269,7 +270,7 @@ class ViewerSession:
             self.update_kinematics()
             return False
         start = (self.ghost if self.physical else self.kin).endeff_tf.t()
-        self.demo = DemoCircle(center=start - np.array([gd.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0]))
+        self.demo = DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0]))
         return True
 
     def step_demo(self, dt: float) -> None:
@@ -280,7 +281,7 @@ class ViewerSession:
         point, velocity = self.demo.point_and_velocity()
         physical = self.physical
         ee = (self.ghost if physical else self.kin).endeff_tf.t()
-        command = velocity + gd.DEMO_FEEDBACK_GAIN * (point - ee)
+        command = velocity + vs.DEMO_FEEDBACK_GAIN * (point - ee)
         q = self.state.q_des() if physical else self.state.q()
         qd = diff_ik_velocity(self.robot, q, command)
         q_new = np.clip(q + qd * dt, self.robot.q_min, self.robot.q_max)
@@ -337,8 +338,8 @@ class ViewerSession:
         radius = go.robot_look(self.robot).endeff_radius
         twist = np.asarray(self.kin.endeff_twist)
         arrows = []
-        for vec, color in ((twist[:3] * gd.VECTOR_SCALE_LINEAR, gd.LINEAR_VELOCITY_COLOR),
-                           (twist[3:] * gd.VECTOR_SCALE_ANGULAR, gd.ANGULAR_VELOCITY_COLOR)):
+        for vec, color in ((twist[:3] * vs.VECTOR_SCALE_LINEAR, gd.LINEAR_VELOCITY_COLOR),
+                           (twist[3:] * vs.VECTOR_SCALE_ANGULAR, gd.ANGULAR_VELOCITY_COLOR)):
             norm = float(np.linalg.norm(vec))
             arrows.append((centre + (vec / norm * radius if norm > 0.0 else 0.0), vec, color))
         return arrows
@@ -378,7 +379,7 @@ class ViewerSession:
         self.motion.move_pull(point + (dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
 
     def scene(self) -> Any:
-        """The graphics_objects.Scene of the current state."""
+        """The robot_sim.graphics.Scene of the current state."""
         return go.Scene(
             self.kin,
             ghost=self.ghost if self.target_tf is not None or self.ghost_apart() else None,
@@ -392,9 +393,9 @@ class ViewerSession:
     def status_text(self, fps_text: str) -> str:
         """Status bar text: robot name and frame rate, and a failed IK target's errors
         (the endeffector pose has its own readout in the window)."""
-        text = gd.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
+        text = vs.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
         if self.target_tf is not None and not self.target_reachable:
-            text += gd.STATUS_TARGET_UNREACHABLE.format(
+            text += vs.STATUS_TARGET_UNREACHABLE.format(
                 pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err)
             )
         if self._motion is not None:
@@ -405,6 +406,6 @@ class ViewerSession:
 def compute_workspace(robot: RobotParams, n_points: int, cancelled: Callable[[], bool] | None = None) -> Any:
     """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by
     manipulability; ``cancelled`` as in kinematics.workspace_points."""
-    points, manipulability = workspace_points(robot, n_points, seed=gd.WORKSPACE_SEED, cancelled=cancelled)
+    points, manipulability = workspace_points(robot, n_points, seed=vs.WORKSPACE_SEED, cancelled=cancelled)
     return go.WorkspaceCloud(points, manipulability)
 

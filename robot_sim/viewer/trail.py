@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robot_sim.graphics import defs as gd
+from robot_sim.viewer import settings as vs
 
 
 class Trail:
@@ -15,7 +15,7 @@ class Trail:
     resting arm adds nothing and the line's vertices are evenly spread along the path.
     """
 
-    def __init__(self, capacity: int = gd.TRAIL_MAX_POINTS, min_step: float = gd.TRAIL_MIN_STEP_M) -> None:
+    def __init__(self, capacity: int = vs.TRAIL_MAX_POINTS, min_step: float = vs.TRAIL_MIN_STEP_M) -> None:
         if capacity < 2:
             raise ValueError(f"capacity must be at least 2 points, got {capacity}")
         self.min_step = float(min_step)

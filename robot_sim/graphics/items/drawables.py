@@ -1,8 +1,8 @@
 """The viewer's drawables: ground, coordinate axes, arrows, the IK target and the robot.
 
-Each is a :class:`_gfx_resources.Drawable`: it holds what it shows, owns its GL objects
+Each is a :class:`robot_sim.graphics.resources.Drawable`: it holds what it shows, owns its GL objects
 and paints itself inside a named GL state preset.  Poses and points are in the world
-frame (z up, metres).  Part sizes follow the robot (``_gfx_robot.robot_look``).
+frame (z up, metres).  Part sizes follow the robot (``robot_sim.graphics.robot_parts.robot_look``).
 """
 from __future__ import annotations
 
@@ -168,7 +168,7 @@ def ground_for(reach: float, centre_x: float, centre_y: float) -> GroundGraphics
 class RobotGraphics(Drawable):
     """The robot posed by ``kinematics`` (kept updated by its owner: world ``frames``,
     ``endeff_tf``, ``link_com``), drawn as it is built from its DH table
-    (``_gfx_robot.robot_parts``): links as their DH segments in light grey, revolute
+    (``robot_sim.graphics.robot_parts.robot_parts``): links as their DH segments in light grey, revolute
     joints as dark-grey cylinders on their axes, prismatic joints as a sleeve and a
     sliding rod, the endeffector a red sphere, with ``show_com`` each link's centre of
     mass a small blue sphere, a base plate under frame 0 and, for a raised base, a dashed line down to the

@@ -1,0 +1,40 @@
+"""Constants of the viewer session (robot_sim.viewer): default window size, animation speeds, the
+circle demo and its gains, readout and status formats, trail, recording."""
+
+# Window size (the window and --screenshot default)
+WINDOW_DEFAULT_SIZE = (1024, 768)    # px, --size default (window and screenshot)
+UNLIMITED_REVOLUTE_RANGE_DEG = 180.0 # slider range of a revolute joint without limits
+UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without limits
+
+# Status bar
+STATUS_FORMAT = "{robot} | {fps}"  # permanent, right; one-off messages on its left
+STATUS_TARGET_UNREACHABLE = " | IK target UNREACHABLE (pos err {pos_err:.3f} m, rot err {rot_err_deg:.1f} deg)"
+ANIM_SPEED_REVOLUTE = 1.5            # rad/s, current joints moving toward the ghost
+ANIM_SPEED_PRISMATIC = 0.3           # m/s
+ANIM_ARRIVED_TOL = 1e-6              # rad or m
+
+# Circle demo (differential IK)
+DEMO_CIRCLE_RADIUS_M = 0.1
+DEMO_CIRCLE_PERIOD_S = 4.0
+DEMO_FEEDBACK_GAIN = 5.0             # 1/s, pulls the endeffector back onto the circle
+
+# Motion vectors: arrow length per unit velocity
+# (arrows start on the endeffector sphere's surface, so all of an arrow shows; the
+# circle demo's 0.16 m/s makes a 0.24 m arrow)
+VECTOR_SCALE_LINEAR = 1.5            # m of arrow per m/s
+VECTOR_SCALE_ANGULAR = 0.3           # m of arrow per rad/s (colours: *_VELOCITY_COLOR above)
+WORKSPACE_SEED = 0
+READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
+                  "rpy [deg] {roll:+.2f} {pitch:+.2f} {yaw:+.2f}\n"
+                  "quat wxyz {qw:+.4f} {qx:+.4f} {qy:+.4f} {qz:+.4f}\n"
+                  "manipulability {m:.4g}")
+
+# Endeffector trail (toggle key in KEY_BINDINGS)
+TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
+TRAIL_MIN_STEP_M = 0.002             # a point closer than this to the last is not stored
+PATH_SAMPLE_STEP = 10                      # draw every 10th sample of the 1 kHz plan
+
+# --record: offscreen frames written to DIR
+RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
+RECORD_VIDEO_NAME = "recording.mp4"     # beside the frames, when the optional `video` extra is installed
+RECORD_VIDEO_QUALITY = 8                # imageio-ffmpeg quality, 0 (worst) .. 10 (best)
