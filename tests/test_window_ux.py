@@ -216,7 +216,7 @@ def test_typed_joint_values_home_zero_and_limit_labels(app: Any, planar: Any) ->
 
 
 def test_one_off_messages_show_beside_the_permanent_status_and_go(app: Any, planar: Any, monkeypatch: Any) -> None:
-    monkeypatch.setattr(gd, "STATUS_MESSAGE_MS", 300)
+    monkeypatch.setattr(qs, "STATUS_MESSAGE_MS", 300)
     planar.message("a message the user must see")
     label, status = planar.message_label, planar.status
     assert label.isVisible() and label.text() == "a message the user must see"
