@@ -32,8 +32,9 @@ This module imports neither Qt nor OpenGL.
 from __future__ import annotations
 
 import math
+import os
 import weakref
-from typing import Union
+from typing import NamedTuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -49,6 +50,33 @@ GRAVITY = (0.0, 0.0, -9.81)
 #: Configurations per chunk of the batched kernels (work arrays stay in cache).
 CHUNK = 2048
 _SNAP = 1e-12  # cos/sin of constant angles closer than this to 0 or ±1 are made exact
+#: The implementations: "compiled" (numba kernels of dynamics_compiled, the default) and
+#: "reference" (the readable recursion of this module).  The environment variable
+#: ``ROBOT_SIM_DYNAMICS`` picks one at import, :func:`set_backend` at run time.
+BACKENDS = ("compiled", "reference")
+BACKEND_ENV = "ROBOT_SIM_DYNAMICS"
+
+
+def _checked_backend(name: object, where: str) -> str:
+    if name not in BACKENDS:
+        raise ValueError(f"{where} must be one of {', '.join(BACKENDS)}, got {name!r}")
+    return str(name)
+
+
+_backend = _checked_backend(os.environ.get(BACKEND_ENV, "compiled"), f"environment variable {BACKEND_ENV}")
+
+
+def set_backend(name: str) -> None:
+    """Run the dynamics through ``name``: ``"compiled"`` (numba kernels compiled once per
+    machine and cached) or ``"reference"`` (the readable recursion, for debugging and as
+    the tests' reference).  Results agree to round-off (about 1e-12 relative)."""
+    global _backend
+    _backend = _checked_backend(name, "backend")
+
+
+def backend() -> str:
+    """The implementation in use, one of :data:`BACKENDS`."""
+    return _backend
 
 
 # ------------------------------------------------------------------ scalar algebra
@@ -223,8 +251,33 @@ class _DynModel:
         self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
         self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
         self.kernels: dict = {}  # compiled straight-line kernels, see _compile
+        self.table: FloatArray | None = None  # parameter table of the compiled kernels
+        self.zero = np.zeros(n)  # zero rates for the compiled kernels (read only by them)
         self.base_rotation = robot.base_tf.R().copy()
         self._gravity: tuple = ((0.0, 0.0, -9.81), None)  # last (world gravity, in frame 0)
+        self._gravity_array: tuple = (None, None)  # last frame-0 gravity tuple and it as an array
+
+    def gravity_array(self, robot: RobotParams, gravity: ArrayLike) -> FloatArray:
+        """:meth:`gravity_in_frame0` as a (3,) array (the last one kept)."""
+        g_last = self._gravity[1]
+        if gravity is self._gravity[0] and g_last is not None and self._gravity_array[0] is g_last:
+            return self._gravity_array[1]
+        g0 = self.gravity_in_frame0(robot, gravity)
+        if g0 is not self._gravity_array[0]:
+            self._gravity_array = (g0, np.array(g0))
+        return self._gravity_array[1]
+
+    def compiled(self):  # -> (module robot_sim.dynamics_compiled, parameter table)
+        """The compiled kernels (numba is imported on first use) and this robot's table."""
+        if self.table is not None:
+            return _compiled_kernels, self.table
+        kernels = _import_compiled()
+        self.table = kernels.parameter_table(
+            modified=self.modified, revolute=self.revolute, theta=self.th, d=self.d, a=self.a,
+            cos_alpha=self.ca, sin_alpha=self.sa, mass=self.mass, first_moment=self.h, inertia=self.inertia_o,
+            reflected=self.reflected, viscous=self.viscous, coulomb_pos=self.coulomb_pos, coulomb_neg=self.coulomb_neg,
+        )
+        return kernels, self.table
 
     def gravity_in_frame0(self, robot: RobotParams, gravity: ArrayLike) -> tuple[float, float, float]:
         """World gravity [m/s²] in frame 0 (the last one is kept: it rarely changes)."""
@@ -284,6 +337,20 @@ class _DynModel:
             for k, j in enumerate(self.rev_index):
                 cos[j], sin[j] = c_all[k], s_all[k]
         return cos, sin
+
+
+_compiled_kernels = None  # the module robot_sim.dynamics_compiled once imported
+
+
+def _import_compiled():
+    """Import the compiled kernels (and numba, about half a second) on first use only: a
+    program that never runs dynamics never pays for it."""
+    global _compiled_kernels
+    if _compiled_kernels is None:
+        from robot_sim import dynamics_compiled
+
+        _compiled_kernels = dynamics_compiled
+    return _compiled_kernels
 
 
 _MODELS: "weakref.WeakKeyDictionary[RobotParams, _DynModel]" = weakref.WeakKeyDictionary()
@@ -560,20 +627,28 @@ def _solve_spd(A: FloatArray, b: FloatArray) -> FloatArray:
 # ------------------------------------------------------------------ arguments
 
 
-def _joint_array(robot: RobotParams, value: ArrayLike, name: str, like: FloatArray | None = None) -> FloatArray:
+def _joint_array(
+    robot: RobotParams, value: ArrayLike, name: str, like: FloatArray | None = None, finite: bool = True
+) -> FloatArray:
     n = robot.n_dofs
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of shape ({n},) or (N, {n}), got {type(value).__name__}") from None
+    if type(value) is np.ndarray and value.dtype == np.float64:
+        arr = value  # the common case, without the cost of a conversion
+    else:
+        try:
+            arr = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be an array of shape ({n},) or (N, {n}), got {type(value).__name__}") from None
     if like is None:
         if arr.ndim not in (1, 2) or arr.shape[-1] != n:
             raise ValueError(f"{name} must have shape ({n},) or (N, {n}), got shape {arr.shape}")
     elif arr.shape != like.shape:
         raise ValueError(f"{name} must have the shape of q, {like.shape}, got shape {arr.shape}")
-    if not np.isfinite(arr).all():
+    if finite and not np.isfinite(arr).all():
         raise ValueError(f"{name} must be finite, got NaN or inf in {name}")
     return arr
+
+
+_NO_WRENCH = np.zeros((1, 6))  # the compiled kernels' placeholder for "no tool wrench"
 
 
 def _check_gravity(gravity: ArrayLike) -> FloatArray:
@@ -646,6 +721,18 @@ def _rnea(
 ) -> FloatArray:
     """τ (n, N) by RNEA, drive terms included, for Q etc. of shape (N, n) (None: zero)."""
     model = _model(robot)
+    if _backend == "compiled":
+        kernels, table = model.compiled()
+        zero = None if QD is not None and QDD is not None else np.zeros(Q.shape)
+        ext = _NO_WRENCH if f_tool is None else _tool_wrench_in_last_frame(robot, Q, f_tool)
+        tau = np.empty(Q.shape)
+        finite = kernels.rnea_batch(
+            table, Q, zero if QD is None else QD, zero if QDD is None else QDD,
+            model.gravity_array(robot, gravity), ext, f_tool is not None, tau,
+        )
+        if not finite:
+            _arguments(robot, Q, qd=Q if QD is None else QD, qdd=Q if QDD is None else QDD)  # raises
+        return tau.T
     g0 = model.gravity_in_frame0(robot, gravity)
     wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
     kernel = _kernel(model, "rnea", g0, (QD is not None, QDD is not None), wrench is not None)
@@ -682,12 +769,16 @@ def _crba(model: _DynModel, QT: FloatArray) -> FloatArray:
     return out
 
 
-def _arguments(robot: RobotParams, q: ArrayLike, **rates: ArrayLike) -> tuple[bool, list[FloatArray]]:
+def _arguments(robot: RobotParams, q: ArrayLike, finite: bool = True, **rates: ArrayLike) -> tuple[bool, list[FloatArray]]:
     """Checked joint arrays as (N, n): q first, then ``rates`` (each the shape of q), and
-    whether q was a single configuration."""
-    q_arr = _joint_array(robot, q, "q")
-    arrays = [q_arr] + [_joint_array(robot, value, name, q_arr) for name, value in rates.items()]
-    return q_arr.ndim == 1, [np.atleast_2d(a) for a in arrays]
+    whether q was a single configuration.  ``finite=False`` leaves the test for NaN/inf
+    to the caller (the compiled kernels test their inputs at no cost and report it: then
+    the arguments are checked again with the test, which raises naming the culprit)."""
+    q_arr = _joint_array(robot, q, "q", finite=finite)
+    arrays = [q_arr] + [_joint_array(robot, value, name, q_arr, finite) for name, value in rates.items()]
+    if q_arr.ndim == 1:
+        return True, [a.reshape(1, -1) for a in arrays]
+    return False, [np.ascontiguousarray(a) for a in arrays]
 
 
 # ------------------------------------------------------------------ public API
@@ -710,14 +801,32 @@ def inverse_dynamics(
     the environment at the tool frame origin, world frame.  ValueError for wrong shapes,
     NaN/inf, or a robot without inertial data.
     """
-    single, (Q, QD, QDD) = _arguments(robot, q, qd=qd, qdd=qdd)
+    if f_tool is None and _backend == "compiled":  # one configuration of float64 vectors: fast
+        model = _model(robot)
+        kernels, table = model.compiled()
+        tau = np.empty(model.n)
+        try:
+            if kernels.rnea_vec(table, q, qd, qdd, model.gravity_array(robot, gravity), tau):
+                return tau
+        except TypeError:  # not C-contiguous float64 vectors: the checked way below
+            pass
+    single, (Q, QD, QDD) = _arguments(robot, q, _backend != "compiled", qd=qd, qdd=qdd)
     tau = _rnea(robot, Q, QD, QDD, gravity, f_tool).T
     return tau[0] if single else tau
 
 
 def gravity_torque(robot: RobotParams, q: ArrayLike, gravity: ArrayLike = GRAVITY) -> FloatArray:
     """g(q): joint torques [N·m or N] that hold the arm still against gravity, (n,) or (N, n)."""
-    single, (Q,) = _arguments(robot, q)
+    if _backend == "compiled":  # one configuration of a float64 vector: fast
+        model = _model(robot)
+        kernels, table = model.compiled()
+        tau = np.empty(model.n)
+        try:
+            if kernels.rnea_vec(table, q, model.zero, model.zero, model.gravity_array(robot, gravity), tau):
+                return tau
+        except TypeError:  # not a C-contiguous float64 vector: the checked way below
+            pass
+    single, (Q,) = _arguments(robot, q, _backend != "compiled")
     tau = _rnea(robot, Q, None, None, gravity, None).T
     return tau[0] if single else tau
 
@@ -726,7 +835,7 @@ def bias_torque(
     robot: RobotParams, q: ArrayLike, qd: ArrayLike, gravity: ArrayLike = GRAVITY, f_tool: ArrayLike | None = None
 ) -> FloatArray:
     """C(q, q̇) q̇ + g(q) + τ_f(q̇) (− Jᵀ f_tool when given): inverse dynamics at q̈ = 0."""
-    single, (Q, QD) = _arguments(robot, q, qd=qd)
+    single, (Q, QD) = _arguments(robot, q, _backend != "compiled", qd=qd)
     tau = _rnea(robot, Q, QD, None, gravity, f_tool).T
     return tau[0] if single else tau
 
@@ -734,8 +843,14 @@ def bias_torque(
 def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
     """Joint-space inertia matrix M(q) (n, n) or (N, n, n) [kg·m², kg], symmetric positive
     definite, reflected motor inertia G²·Jm on the diagonal (composite rigid bodies)."""
-    single, (Q,) = _arguments(robot, q)
+    single, (Q,) = _arguments(robot, q, _backend != "compiled")
     model = _model(robot)
+    if _backend == "compiled":
+        kernels, table = model.compiled()
+        M = np.empty((Q.shape[0], model.n, model.n))
+        if not kernels.crba_batch(table, Q, M):
+            _arguments(robot, q)  # raises
+        return M[0] if single else M
     QT = _rows(Q)
     out = np.empty((robot.n_dofs, robot.n_dofs, QT.shape[1]))
     for s in range(0, QT.shape[1], CHUNK):
@@ -754,8 +869,25 @@ def forward_dynamics(
 ) -> FloatArray:
     """Joint accelerations q̈ = M⁻¹ (τ − C q̇ − g − τ_f + Jᵀ f_tool), (n,) or (N, n), by a
     batched Cholesky solve of the composite-rigid-body M (see the README for why)."""
-    single, (Q, QD, TAU) = _arguments(robot, q, qd=qd, tau=tau)
+    if f_tool is None and _backend == "compiled":  # as in inverse_dynamics
+        model = _model(robot)
+        kernels, table = model.compiled()
+        qdd = np.empty(model.n)
+        try:
+            if kernels.fd_vec(table, q, qd, tau, model.gravity_array(robot, gravity), qdd):
+                return qdd
+        except TypeError:
+            pass
+    single, (Q, QD, TAU) = _arguments(robot, q, _backend != "compiled", qd=qd, tau=tau)
     model = _model(robot)
+    if _backend == "compiled":
+        kernels, table = model.compiled()
+        ext = _NO_WRENCH if f_tool is None else _tool_wrench_in_last_frame(robot, Q, f_tool)
+        qdd = np.empty(Q.shape)
+        g0 = model.gravity_array(robot, gravity)
+        if not kernels.fd_batch(table, Q, QD, TAU, g0, ext, f_tool is not None, qdd):
+            _arguments(robot, q, qd=qd, tau=tau)  # raises
+        return qdd[0] if single else qdd
     rhs = _rows(TAU) - _rnea(robot, Q, QD, None, gravity, f_tool)
     QT = _rows(Q)
     if single:

@@ -1,0 +1,552 @@
+"""Compiled (numba) kernels of the rigid-body dynamics: RNEA, CRBA, forward dynamics by a
+Cholesky solve, and one fused RK4 / semi-implicit Euler step.
+
+The same algorithms as the readable recursion in ``dynamics`` (which stays the reference
+the tests compare against), written as scalar code over one configuration and compiled
+once per machine (``cache=True``: later processes load the machine code from
+``__pycache__``).  A batch of N configurations is N calls of the same one-configuration
+code, so a batched result equals the one-configuration result bit for bit: a
+``BatchSimulation`` of n arms is n ``Simulation``\\ s, exactly.
+
+Inputs are plain arrays: the robot is the per-joint parameter table ``P`` (n, :data:`NCOL`)
+built by :func:`parameter_table` (columns below; link quantities in each link's own DH
+frame, inertia about the frame origin; column :data:`MOD` says the DH convention).
+Gravity ``g0`` (3,) [m/s²] is given in frame 0; an external wrench ``fext`` (6,) [N; N·m]
+on the last link acts about its frame origin, in its frame.  Units are SI throughout.
+
+This module imports nothing of the project (numpy and numba only).
+"""
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import numba
+from numba import njit
+
+if not os.access(Path(__file__).parent, os.W_OK) and not os.environ.get("NUMBA_CACHE_DIR"):
+    # an installed or read-only checkout (or another user's): cache the machine code in a
+    # directory of our own instead of compiling it again in every process
+    numba.config.CACHE_DIR = str(Path(tempfile.gettempdir()) / f"robot_sim-numba-{os.getuid()}")
+
+# Columns of the per-joint parameter table P.
+REV, TH, D, A, CA, SA, MASS, HX, HY, HZ = range(10)
+IXX, IYY, IZZ, IXY, IYZ, IXZ, REFL, VISC, CPOS, CNEG = range(10, 20)
+SVX, SVY, SVZ, SWX, SWY, SWZ = range(20, 26)  # joint motion [v; ω] per unit rate, frame j
+MOD = 26  # 1.0 in every row for modified DH (Craig), 0.0 for standard DH
+NCOL = 27
+
+#: Status codes of :func:`step_batch` per configuration.
+OK, BAD_STATE, BAD_ACCEL = 0, 1, 2
+
+_JIT = dict(cache=True, nogil=True, error_model="numpy")
+_INLINE = dict(_JIT, inline="always")  # small helpers: inlined into the kernels
+
+
+def parameter_table(
+    *, modified, revolute, theta, d, a, cos_alpha, sin_alpha, mass, first_moment, inertia, reflected, viscous,
+    coulomb_pos, coulomb_neg,
+) -> np.ndarray:
+    """The table P (n, NCOL) of per-joint constants: joint type, DH θ offset, d, a [m],
+    cos α, sin α; link mass [kg], first moment m·c [kg·m] and inertia about the frame
+    origin (xx, yy, zz, xy, yz, xz) [kg·m²] in the link's frame; drive terms G²Jm
+    [kg·m²], G²B [N·m·s/rad] and |G|·Tc± [N·m]; the joint's motion subspace [v of the
+    frame origin; ω] per unit rate in frame j; the convention (:data:`MOD`)."""
+    n = len(revolute)
+    P = np.zeros((n, NCOL))
+    P[:, REV] = np.asarray(revolute, dtype=float)
+    P[:, TH], P[:, D], P[:, A] = theta, d, a
+    P[:, CA], P[:, SA] = cos_alpha, sin_alpha
+    P[:, MASS] = mass
+    P[:, HX : HZ + 1] = np.asarray(first_moment, dtype=float).reshape(n, 3)
+    P[:, IXX : IXZ + 1] = np.asarray(inertia, dtype=float).reshape(n, 6)
+    P[:, REFL], P[:, VISC], P[:, CPOS], P[:, CNEG] = reflected, viscous, coulomb_pos, coulomb_neg
+    for j in range(n):
+        P[j, SVX : SWZ + 1] = _subspace(P, bool(modified), j)
+    P[:, MOD] = 1.0 if modified else 0.0
+    return P
+
+
+# ------------------------------------------------------------------ 3-vector algebra
+
+
+@njit(**_INLINE)
+def _rz(x, y, z, c, s):
+    return c * x - s * y, s * x + c * y, z
+
+
+@njit(**_INLINE)
+def _rz_t(x, y, z, c, s):
+    return c * x + s * y, c * y - s * x, z
+
+
+@njit(**_INLINE)
+def _rx(x, y, z, c, s):
+    return x, c * y - s * z, s * y + c * z
+
+
+@njit(**_INLINE)
+def _rx_t(x, y, z, c, s):
+    return x, c * y + s * z, c * z - s * y
+
+
+@njit(**_INLINE)
+def _cross(ax, ay, az, bx, by, bz):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+
+
+@njit(**_INLINE)
+def _to_child(modified, x, y, z, c, s, ca, sa):
+    """Vector in frame j−1 expressed in frame j (Rᵀ v)."""
+    if modified:
+        x, y, z = _rx_t(x, y, z, ca, sa)
+        return _rz_t(x, y, z, c, s)
+    x, y, z = _rz_t(x, y, z, c, s)
+    return _rx_t(x, y, z, ca, sa)
+
+
+@njit(**_INLINE)
+def _to_parent(modified, x, y, z, c, s, ca, sa):
+    """Vector in frame j expressed in frame j−1 (R v)."""
+    if modified:
+        x, y, z = _rz(x, y, z, c, s)
+        return _rx(x, y, z, ca, sa)
+    x, y, z = _rx(x, y, z, ca, sa)
+    return _rz(x, y, z, c, s)
+
+
+@njit(**_INLINE)
+def _sym_mv(xx, yy, zz, xy, yz, xz, x, y, z):
+    """Symmetric matrix (xx, yy, zz, xy, yz, xz) times (x, y, z)."""
+    return xx * x + xy * y + xz * z, xy * x + yy * y + yz * z, xz * x + yz * y + zz * z
+
+
+@njit(**_INLINE)
+def _rot_sym_z(xx, yy, zz, xy, yz, xz, c, s):
+    """Rz(θ) S Rz(θ)ᵀ."""
+    c2, s2 = c * c - s * s, 2.0 * c * s
+    mean, half = 0.5 * (xx + yy), 0.5 * (xx - yy)
+    t = half * c2 - xy * s2
+    return mean + t, mean - t, zz, half * s2 + xy * c2, s * xz + c * yz, c * xz - s * yz
+
+
+@njit(**_INLINE)
+def _rot_sym_x(xx, yy, zz, xy, yz, xz, c, s):
+    """Rx(α) S Rx(α)ᵀ."""
+    c2, s2 = c * c - s * s, 2.0 * c * s
+    mean, half = 0.5 * (yy + zz), 0.5 * (yy - zz)
+    t = half * c2 - yz * s2
+    return xx, mean + t, mean - t, c * xy - s * xz, half * s2 + yz * c2, s * xy + c * xz
+
+
+# ------------------------------------------------------------------ sin and cos
+# One range reduction and two polynomials give both (the C library's cos and sin cost
+# about 25 ns each here, the largest share of a one-configuration RNEA).  Cody–Waite
+# reduction by π/2 in three parts and fdlibm's kernel polynomials: within 1 ulp or so
+# of the C library for |x| ≤ 1e5 rad; larger angles go to the C library.
+_TWO_OVER_PI = 6.36619772367581382433e-01
+_PIO2_1, _PIO2_2, _PIO2_3 = 1.57079632673412561417e00, 6.07710050630396597660e-11, 2.02226624871116645580e-21
+_S1, _S2, _S3 = -1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04
+_S4, _S5, _S6 = 2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10
+_C1, _C2, _C3 = 4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05
+_C4, _C5, _C6 = -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11
+_REDUCE_MAX = 1e5
+
+
+@njit(**_INLINE)
+def cos_sin(x):
+    """(cos x, sin x) of an angle x [rad]."""
+    if not abs(x) <= _REDUCE_MAX:
+        return math.cos(x), math.sin(x)
+    k = math.floor(x * _TWO_OVER_PI + 0.5)
+    r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
+    z = r * r
+    sin_r = r + r * z * (_S1 + z * (_S2 + z * (_S3 + z * (_S4 + z * (_S5 + z * _S6)))))
+    hz = 0.5 * z
+    w = 1.0 - hz
+    cos_r = w + (((1.0 - w) - hz) + z * z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (_C5 + z * _C6))))))
+    quadrant = int(k) & 3
+    if quadrant == 0:
+        return cos_r, sin_r
+    if quadrant == 1:
+        return -sin_r, cos_r
+    if quadrant == 2:
+        return -cos_r, -sin_r
+    return sin_r, -cos_r
+
+
+# ------------------------------------------------------------------ chain geometry
+
+
+@njit(**_JIT)
+def _geometry(P, modified, q, O, CS):
+    """Offsets O[j] (origin j from origin j−1: in frame j for standard DH, in frame j−1
+    for modified) and cos/sin of θ_j into CS[j]."""
+    for j in range(P.shape[0]):
+        rev = P[j, REV] != 0.0
+        th = P[j, TH] + q[j] if rev else P[j, TH]
+        d = P[j, D] if rev else P[j, D] + q[j]
+        CS[j, 0], CS[j, 1] = cos_sin(th)
+        O[j, 0] = P[j, A]
+        O[j, 1] = (-P[j, SA] if modified else P[j, SA]) * d
+        O[j, 2] = P[j, CA] * d
+
+
+@njit(**_INLINE)
+def _wrench_to_parent(modified, fx, fy, fz, nx, ny, nz, c, s, ca, sa, px, py, pz):
+    """Force f and moment n about origin j (frame j) → about origin j−1, in frame j−1."""
+    if modified:
+        fx, fy, fz = _to_parent(True, fx, fy, fz, c, s, ca, sa)
+        nx, ny, nz = _to_parent(True, nx, ny, nz, c, s, ca, sa)
+        mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+        return fx, fy, fz, nx + mx, ny + my, nz + mz
+    mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+    nx, ny, nz = _to_parent(False, nx + mx, ny + my, nz + mz, c, s, ca, sa)
+    fx, fy, fz = _to_parent(False, fx, fy, fz, c, s, ca, sa)
+    return fx, fy, fz, nx, ny, nz
+
+
+def _subspace(P, modified, j):
+    """Joint j's motion [v of origin j; ω] per unit rate, in frame j."""
+    rev = P[j, REV] != 0.0
+    if modified:
+        if rev:
+            return 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
+        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
+    sa, ca = P[j, SA], P[j, CA]
+    if rev:  # v = axis × (o_j − o_{j−1})
+        d = P[j, D]
+        vx, vy, vz = sa * (ca * d) - ca * (sa * d), ca * P[j, A], -(sa * P[j, A])
+        return vx, vy, vz, 0.0, sa, ca
+    return 0.0, sa, ca, 0.0, 0.0, 0.0
+
+
+# ------------------------------------------------------------------ one configuration
+
+
+@njit(**_JIT)
+def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
+    """τ (n,) into ``tau``: rigid bodies by Newton–Euler plus the drive terms
+    G²Jm q̈ + G²B q̇ + |G|Tc±.  O, CS: :func:`_geometry` of q; work arrays F, NM (n, 3)."""
+    n = P.shape[0]
+    wx = wy = wz = 0.0
+    dx = dy = dz = 0.0
+    ax, ay, az = -g0[0], -g0[1], -g0[2]
+    W00 = W01 = W02 = W10 = W11 = W12 = W20 = W21 = W22 = 0.0
+    for j in range(n):
+        rev = P[j, REV] != 0.0
+        c, s, ca, sa = CS[j, 0], CS[j, 1], P[j, CA], P[j, SA]
+        px, py, pz = O[j, 0], O[j, 1], O[j, 2]
+        v, acc = qd[j], qdd[j]
+        if modified:
+            ax, ay, az = ax + W00 * px + W01 * py + W02 * pz, ay + W10 * px + W11 * py + W12 * pz, az + W20 * px + W21 * py + W22 * pz
+            wx, wy, wz = _to_child(True, wx, wy, wz, c, s, ca, sa)
+            dx, dy, dz = _to_child(True, dx, dy, dz, c, s, ca, sa)
+            ax, ay, az = _to_child(True, ax, ay, az, c, s, ca, sa)
+            if rev:
+                dx, dy, dz = dx + wy * v, dy - wx * v, dz + acc
+                wz = wz + v
+            else:
+                ax, ay, az = ax + 2.0 * wy * v, ay - 2.0 * wx * v, az + acc
+        else:
+            if rev:
+                dx, dy, dz = dx + wy * v, dy - wx * v, dz + acc
+                wz = wz + v
+            else:
+                ax, ay, az = ax + 2.0 * wy * v, ay - 2.0 * wx * v, az + acc
+            wx, wy, wz = _to_child(False, wx, wy, wz, c, s, ca, sa)
+            dx, dy, dz = _to_child(False, dx, dy, dz, c, s, ca, sa)
+            ax, ay, az = _to_child(False, ax, ay, az, c, s, ca, sa)
+        xx, yy, zz, xy, yz, xz = wx * wx, wy * wy, wz * wz, wx * wy, wy * wz, wx * wz
+        W00, W01, W02 = -(yy + zz), xy - dz, xz + dy
+        W10, W11, W12 = xy + dz, -(xx + zz), yz - dx
+        W20, W21, W22 = xz - dy, yz + dx, -(xx + yy)
+        if not modified:
+            ax, ay, az = ax + W00 * px + W01 * py + W02 * pz, ay + W10 * px + W11 * py + W12 * pz, az + W20 * px + W21 * py + W22 * pz
+        m, hx, hy, hz = P[j, MASS], P[j, HX], P[j, HY], P[j, HZ]
+        F[j, 0] = m * ax + W00 * hx + W01 * hy + W02 * hz
+        F[j, 1] = m * ay + W10 * hx + W11 * hy + W12 * hz
+        F[j, 2] = m * az + W20 * hx + W21 * hy + W22 * hz
+        ixx, iyy, izz, ixy, iyz, ixz = P[j, IXX], P[j, IYY], P[j, IZZ], P[j, IXY], P[j, IYZ], P[j, IXZ]
+        lx, ly, lz = _sym_mv(ixx, iyy, izz, ixy, iyz, ixz, wx, wy, wz)
+        gx, gy, gz = _sym_mv(ixx, iyy, izz, ixy, iyz, ixz, dx, dy, dz)
+        cx, cy, cz = _cross(wx, wy, wz, lx, ly, lz)
+        ex, ey, ez = _cross(hx, hy, hz, ax, ay, az)
+        NM[j, 0], NM[j, 1], NM[j, 2] = gx + cx + ex, gy + cy + ey, gz + cz + ez
+    if use_ext:
+        for k in range(3):
+            F[n - 1, k] -= fext[k]
+            NM[n - 1, k] -= fext[3 + k]
+    for j in range(n - 1, -1, -1):
+        fx, fy, fz, nx, ny, nz = F[j, 0], F[j, 1], F[j, 2], NM[j, 0], NM[j, 1], NM[j, 2]
+        px, py, pz = O[j, 0], O[j, 1], O[j, 2]
+        ca, sa = P[j, CA], P[j, SA]
+        rev = P[j, REV] != 0.0
+        if modified:
+            t = nz if rev else fz
+        elif rev:
+            mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+            t = sa * (ny + my) + ca * (nz + mz)
+        else:
+            t = sa * fy + ca * fz
+        v = qd[j]
+        friction = P[j, CPOS] if v > 0.0 else (P[j, CNEG] if v < 0.0 else 0.0)
+        tau[j] = t + (P[j, REFL] * qdd[j] + (P[j, VISC] * v + friction))
+        if j > 0:
+            fx, fy, fz, nx, ny, nz = _wrench_to_parent(modified, fx, fy, fz, nx, ny, nz, CS[j, 0], CS[j, 1], ca, sa, px, py, pz)
+            F[j - 1, 0] += fx
+            F[j - 1, 1] += fy
+            F[j - 1, 2] += fz
+            NM[j - 1, 0] += nx
+            NM[j - 1, 1] += ny
+            NM[j - 1, 2] += nz
+
+
+@njit(**_JIT)
+def crba_one(P, modified, M, O, CS):
+    """M(q) (n, n) into ``M``: composite rigid bodies plus G²Jm on the diagonal (O, CS:
+    :func:`_geometry` of q)."""
+    n = P.shape[0]
+    cm = 0.0
+    chx = chy = chz = 0.0
+    cxx = cyy = czz = cxy = cyz = cxz = 0.0
+    for j in range(n - 1, -1, -1):
+        cm += P[j, MASS]
+        chx, chy, chz = chx + P[j, HX], chy + P[j, HY], chz + P[j, HZ]
+        cxx, cyy, czz = cxx + P[j, IXX], cyy + P[j, IYY], czz + P[j, IZZ]
+        cxy, cyz, cxz = cxy + P[j, IXY], cyz + P[j, IYZ], cxz + P[j, IXZ]
+        vx, vy, vz, ux, uy, uz = P[j, SVX], P[j, SVY], P[j, SVZ], P[j, SWX], P[j, SWY], P[j, SWZ]
+        kx, ky, kz = _cross(chx, chy, chz, ux, uy, uz)
+        fx, fy, fz = cm * vx - kx, cm * vy - ky, cm * vz - kz
+        ix, iy, iz = _sym_mv(cxx, cyy, czz, cxy, cyz, cxz, ux, uy, uz)
+        kx, ky, kz = _cross(chx, chy, chz, vx, vy, vz)
+        nx, ny, nz = ix + kx, iy + ky, iz + kz
+        M[j, j] = (vx * fx + vy * fy + vz * fz) + (ux * nx + uy * ny + uz * nz) + P[j, REFL]
+        for k in range(j, 0, -1):
+            fx, fy, fz, nx, ny, nz = _wrench_to_parent(
+                modified, fx, fy, fz, nx, ny, nz, CS[k, 0], CS[k, 1], P[k, CA], P[k, SA], O[k, 0], O[k, 1], O[k, 2]
+            )
+            i = k - 1
+            bx, by, bz, ex, ey, ez = P[i, SVX], P[i, SVY], P[i, SVZ], P[i, SWX], P[i, SWY], P[i, SWZ]
+            value = (bx * fx + by * fy + bz * fz) + (ex * nx + ey * ny + ez * nz)
+            M[k - 1, j] = value
+            M[j, k - 1] = value
+        if j > 0:
+            c, s, ca, sa = CS[j, 0], CS[j, 1], P[j, CA], P[j, SA]
+            px, py, pz = O[j, 0], O[j, 1], O[j, 2]
+            if modified:
+                chx, chy, chz = _to_parent(True, chx, chy, chz, c, s, ca, sa)
+                cxx, cyy, czz, cxy, cyz, cxz = _rot_sym_z(cxx, cyy, czz, cxy, cyz, cxz, c, s)
+                cxx, cyy, czz, cxy, cyz, cxz = _rot_sym_x(cxx, cyy, czz, cxy, cyz, cxz, ca, sa)
+            # shift about origin j−1: I + 2(h·r)1 − (r hᵀ + h rᵀ) + m(|r|² 1 − r rᵀ), r = p
+            hr = chx * px + chy * py + chz * pz
+            diag = 2.0 * hr + cm * (px * px + py * py + pz * pz)
+            cxx = cxx - (2.0 * px * chx + cm * px * px) + diag
+            cyy = cyy - (2.0 * py * chy + cm * py * py) + diag
+            czz = czz - (2.0 * pz * chz + cm * pz * pz) + diag
+            cxy = cxy - (px * chy + chx * py + cm * px * py)
+            cyz = cyz - (py * chz + chy * pz + cm * py * pz)
+            cxz = cxz - (px * chz + chx * pz + cm * px * pz)
+            chx, chy, chz = chx + cm * px, chy + cm * py, chz + cm * pz
+            if not modified:
+                chx, chy, chz = _to_parent(False, chx, chy, chz, c, s, ca, sa)
+                cxx, cyy, czz, cxy, cyz, cxz = _rot_sym_x(cxx, cyy, czz, cxy, cyz, cxz, ca, sa)
+                cxx, cyy, czz, cxy, cyz, cxz = _rot_sym_z(cxx, cyy, czz, cxy, cyz, cxz, c, s)
+
+
+@njit(**_JIT)
+def cholesky_solve(M, b, x):
+    """x with M x = b for symmetric positive definite M (n, n), factorised in place into
+    its lower Cholesky factor; a matrix that is not positive definite leaves NaN in x."""
+    n = M.shape[0]
+    for j in range(n):
+        diag = M[j, j]
+        for k in range(j):
+            diag -= M[j, k] * M[j, k]
+        ljj = math.sqrt(diag) if diag > 0.0 else math.nan
+        M[j, j] = ljj
+        for i in range(j + 1, n):
+            acc = M[i, j]
+            for k in range(j):
+                acc -= M[i, k] * M[j, k]
+            M[i, j] = acc / ljj
+    for i in range(n):
+        acc = b[i]
+        for k in range(i):
+            acc -= M[i, k] * x[k]
+        x[i] = acc / M[i, i]
+    for i in range(n - 1, -1, -1):
+        acc = x[i]
+        for k in range(i + 1, n):
+            acc -= M[k, i] * x[k]
+        x[i] = acc / M[i, i]
+
+
+@njit(**_JIT)
+def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, out, zero, bias, M, O, CS, F, NM):
+    """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``."""
+    _geometry(P, modified, q, O, CS)
+    rnea_one(P, modified, qd, zero, g0, fext, use_ext, bias, O, CS, F, NM)
+    for j in range(P.shape[0]):
+        bias[j] = tau[j] - bias[j]
+    crba_one(P, modified, M, O, CS)
+    cholesky_solve(M, bias, out)
+
+
+@njit(**_INLINE)
+def _finite(x):
+    """True if every entry of the vector x is finite."""
+    for v in x:
+        if not math.isfinite(v):
+            return False
+    return True
+
+
+# ------------------------------------------------------------------ batches
+
+
+# Each returns whether every input was finite (the caller names the culprit).
+
+
+# The one-configuration entry points have explicit signatures: a call with anything but
+# C-contiguous float64 vectors raises TypeError in the dispatcher (the caller then takes
+# the checked path), and the machine code is loaded from the cache at import.
+_VEC_SIGNATURE = "b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1])"
+
+
+@njit(_VEC_SIGNATURE, **_JIT)
+def rnea_vec(P, q, qd, qdd, g0, tau):
+    """τ (n,) into ``tau`` for one configuration q, qd, qdd (n,), no external wrench; False
+    (and nothing computed) unless all have n entries, g0 has 3 and every input is finite."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    if not (q.shape[0] == n and qd.shape[0] == n and qdd.shape[0] == n and tau.shape[0] == n and g0.shape[0] == 3):
+        return False
+    if not (_finite(q) and _finite(qd) and _finite(qdd)):
+        return False
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    _geometry(P, modified, q, O, CS)
+    rnea_one(P, modified, qd, qdd, g0, O[0], False, tau, O, CS, F, NM)
+    return True
+
+
+@njit(_VEC_SIGNATURE, **_JIT)
+def fd_vec(P, q, qd, tau, g0, qdd):
+    """q̈ (n,) into ``qdd`` for one configuration q, qd, τ (n,), no external wrench; False
+    as :func:`rnea_vec`."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    if not (q.shape[0] == n and qd.shape[0] == n and tau.shape[0] == n and qdd.shape[0] == n and g0.shape[0] == 3):
+        return False
+    if not (_finite(q) and _finite(qd) and _finite(tau)):
+        return False
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
+    _fd_one(P, modified, q, qd, tau, g0, O[0], False, qdd, zero, bias, M, O, CS, F, NM)
+    return True
+
+
+@njit(**_JIT)
+def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
+    """τ (N, n) into TAU for Q, QD, QDD (N, n); FEXT (N, 6) when ``use_ext``."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    finite = True
+    for i in range(Q.shape[0]):
+        _geometry(P, modified, Q[i], O, CS)
+        rnea_one(P, modified, QD[i], QDD[i], g0, FEXT[i if use_ext else 0], use_ext, TAU[i], O, CS, F, NM)
+        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDD[i])
+    return finite
+
+
+@njit(**_JIT)
+def crba_batch(P, Q, MM):
+    """M (N, n, n) into MM for Q (N, n)."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    O, CS = np.empty((n, 3)), np.empty((n, 2))
+    finite = True
+    for i in range(Q.shape[0]):
+        _geometry(P, modified, Q[i], O, CS)
+        crba_one(P, modified, MM[i], O, CS)
+        finite = finite and _finite(Q[i])
+    return finite
+
+
+@njit(**_JIT)
+def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
+    """q̈ (N, n) into QDD; NaN where M is not positive definite."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
+    finite = True
+    for i in range(Q.shape[0]):
+        _fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, QDD[i], zero, bias, M, O, CS, F, NM)
+        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(TAU[i])
+    return finite
+
+
+@njit(**_JIT)
+def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, Q1, QD1, QDD1, STATUS):
+    """One step of length h [s] per configuration i with ``active[i]``, effort TAU[i] held:
+    classical RK4 (``rk4``) or semi-implicit Euler.  ``known[i]``: A1[i] is the
+    acceleration at the start (used when finite).  Writes the new state into Q1, QD1, the
+    start acceleration into QDD1 and a status (:data:`OK`, :data:`BAD_STATE` for a
+    non-finite stage state, :data:`BAD_ACCEL` for a non-finite acceleration) into STATUS."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
+    fext = np.zeros(6)
+    a1, a2, a3, a4 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    qs, vs = np.empty(n), np.empty(n)
+    half, sixth = 0.5 * h, h / 6.0
+    for i in range(Q.shape[0]):
+        if not active[i]:
+            continue
+        q, v, tau = Q[i], QD[i], TAU[i]
+        STATUS[i] = OK
+        if known[i] and _finite(A1[i]):
+            a1[:] = A1[i]
+        else:
+            _fd_one(P, modified, q, v, tau, g0, fext, False, a1, zero, bias, M, O, CS, F, NM)
+            if not _finite(a1):
+                STATUS[i] = BAD_ACCEL
+                continue
+        QDD1[i] = a1
+        if not rk4:
+            for j in range(n):
+                QD1[i, j] = v[j] + h * a1[j]
+                Q1[i, j] = q[j] + h * QD1[i, j]
+            continue
+        stages_ok = True
+        for stage in range(3):  # stages 2, 3, 4 of RK4
+            prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
+            out = a2 if stage == 0 else (a3 if stage == 1 else a4)
+            step = h if stage == 2 else half
+            for j in range(n):
+                # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
+                pv = v[j] if stage == 0 else vs[j]
+                vs_new = v[j] + step * prev[j]
+                qs[j] = q[j] + step * pv
+                vs[j] = vs_new
+            if not (_finite(qs) and _finite(vs)):
+                STATUS[i] = BAD_STATE
+                stages_ok = False
+                break
+            _fd_one(P, modified, qs, vs, tau, g0, fext, False, out, zero, bias, M, O, CS, F, NM)
+            if not _finite(out):
+                STATUS[i] = BAD_ACCEL
+                stages_ok = False
+                break
+        if not stages_ok:
+            continue
+        for j in range(n):
+            v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
+            Q1[i, j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
+            QD1[i, j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
