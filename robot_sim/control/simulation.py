@@ -49,7 +49,7 @@ FloatArray = NDArray[np.float64]
 Reference = Callable[[float], tuple[FloatArray, FloatArray, FloatArray]]
 
 DEFAULT_DT = 1e-3
-INTEGRATORS = ("rk4", "euler")
+INTEGRATORS = dynamics.INTEGRATORS
 #: At most this much simulated time per :meth:`Simulation.advance` call [s]: when the
 #: computation falls behind the wall clock, the simulation slows down (real-time factor
 #: below 1) instead of trying to catch up with ever longer bursts.
@@ -67,6 +67,23 @@ class LimitEvent:
     joint: int
     side: str
     q: float
+
+
+def drive_limits(robot: RobotParams) -> tuple[FloatArray, FloatArray]:
+    """Effort [N·m or N] and velocity [rad/s or m/s] limits per joint (inf without drives)."""
+    n = robot.n_dofs
+    drives = robot.drives
+    if drives is None:
+        return np.full(n, np.inf), np.full(n, np.inf)
+    return np.asarray(drives.effort_limit, dtype=float), np.asarray(drives.velocity_limit, dtype=float)
+
+
+def stop_message(time: float, reason: str) -> str:
+    """What :attr:`Simulation.stopped` says when a step at ``time`` [s] failed for ``reason``."""
+    return f"simulation stopped at t = {time:.3f} s: {reason}; kept the last finite state"
+
+
+_ONE_TRUE = np.ones(1, dtype=bool)  # "the start acceleration is known" for one arm
 
 
 class _Diverged(Exception):
@@ -114,9 +131,7 @@ class Simulation:
         self.integrator = integrator
         self.reference = reference
         n = robot.n_dofs
-        drives = robot.drives
-        self.effort_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.effort_limit, dtype=float)
-        self.velocity_limit = np.full(n, np.inf) if drives is None else np.asarray(drives.velocity_limit, dtype=float)
+        self.effort_limit, self.velocity_limit = drive_limits(robot)
         self._limit_effort = bool(np.isfinite(self.effort_limit).any())
         self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
         self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
@@ -244,7 +259,7 @@ class Simulation:
                 try:
                     self._step(*desired)
                 except (_Diverged, np.linalg.LinAlgError) as exc:
-                    self.stopped = f"simulation stopped at t = {self.time:.3f} s: {exc}; kept the last finite state"
+                    self.stopped = stop_message(self.time, str(exc))
                     break
                 taken += 1
         self._publish(desired)
@@ -297,6 +312,17 @@ class Simulation:
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(q, qd) after one step and the acceleration at its start (``a1`` when known)."""
         h = self.dt
+        if f_tool is None:  # one call of dynamics.integrate_step (a fused kernel when compiled)
+            step = dynamics.integrate_step(
+                self.robot, q[None], qd[None], tau[None], h, self._integrator,
+                qdd_start=None if a1 is None else a1[None], known=_ONE_TRUE,
+            )
+            status = step.status[0]
+            if status == dynamics.STEP_BAD_STATE:
+                raise _Diverged("the joint state became non-finite")
+            if status == dynamics.STEP_BAD_ACCEL:
+                raise _Diverged("the joint acceleration became non-finite")
+            return step.q[0], step.qd[0], step.qdd[0]
         if a1 is None or not _finite(a1):
             a1 = self._accel(q, qd, tau, f_tool)
         if self._integrator == "euler":

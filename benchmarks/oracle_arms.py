@@ -1,0 +1,17 @@
+"""The arms the optional oracle scripts (compare_mujoco.py, compare_pinocchio.py) share
+with MuJoCo and Pinocchio: their URDF importers keep no drive terms (reflected motor
+inertia, friction), and MuJoCo's joint ranges are soft constraints, so both sides are
+compared on the rigid bodies alone, without joint limits."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from robot_defs import RobotParams
+
+
+def without_drives(robot: RobotParams) -> RobotParams:
+    """``robot`` without drives and joint limits (same DH table and inertials)."""
+    n = robot.n_dofs
+    return replace(robot, drives=None, q_min=np.full(n, -np.inf), q_max=np.full(n, np.inf))
