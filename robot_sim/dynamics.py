@@ -983,13 +983,13 @@ def energy(
 
 # ------------------------------------------------------------------ one time step
 
-#: Status per arm of :func:`integrate_step`.
+#: Status per arm of :meth:`Stepper.step`.
 STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL = 0, 1, 2
 INTEGRATORS = ("rk4", "euler")
 
 
 class StepResult(NamedTuple):
-    """Outcome of :func:`integrate_step` for N arms: the state after the step ``q``, ``qd``
+    """Outcome of :meth:`Stepper.step` for N arms: the state after the step ``q``, ``qd``
     (N, n), the acceleration at its start ``qdd`` (N, n) and ``status`` (N,) per arm
     (:data:`STEP_OK`, :data:`STEP_BAD_STATE` when a stage state was not finite,
     :data:`STEP_BAD_ACCEL` when an acceleration was not finite or M not positive definite).
@@ -1001,58 +1001,66 @@ class StepResult(NamedTuple):
     status: NDArray[np.int8]
 
 
-def integrate_step(
-    robot: RobotParams,
-    q: FloatArray,
-    qd: FloatArray,
-    tau: FloatArray,
-    dt: float,
-    method: str = "rk4",
-    qdd_start: FloatArray | None = None,
-    known: NDArray[np.bool_] | None = None,
-    active: NDArray[np.bool_] | None = None,
-    gravity: ArrayLike = GRAVITY,
-) -> StepResult:
-    """One fixed step of ``dt`` [s] of N arms with the joint efforts ``tau`` held over it
-    (no tool wrench): classical RK4 (``method="rk4"``) or semi-implicit Euler
-    (``"euler"``: q̇ += h q̈; q += h q̇).  q, qd, tau: (N, n) float64 [rad, m, per s; N·m, N].
+class Stepper:
+    """Fixed steps of ``dt`` [s] for N arms of ``robot`` with the joint efforts held over
+    each step (no tool wrench): classical RK4 (``method="rk4"``) or semi-implicit Euler
+    (``"euler"``: q̇ += h q̈; q += h q̇).  Its work and result arrays are allocated once:
+    the :class:`StepResult` of :meth:`step` is overwritten by the next call.
 
-    ``qdd_start`` (N, n) with ``known`` (N,) bool: the acceleration at the start where it
-    is known (computed torque knows it) and finite, saving one forward dynamics.
-    ``active`` (N,) bool: only those arms are stepped (all by default).  With the compiled
-    backend every arm goes through the same machine code, so one arm stepped alone and
-    the same arm in a batch give identical bits.
+    With the compiled backend every arm goes through the same machine code, so an arm
+    stepped alone (N = 1) and the same arm in a batch give identical bits.
     """
-    if method not in INTEGRATORS:
-        raise ValueError(f"method must be one of {', '.join(INTEGRATORS)}, got {method!r}")
-    Q = np.ascontiguousarray(q, dtype=float)
-    n_arms = Q.shape[0]
-    if Q.ndim != 2 or Q.shape[1] != robot.n_dofs:
-        raise ValueError(f"q must have shape (N, {robot.n_dofs}), got shape {Q.shape}")
-    QD, TAU = (np.ascontiguousarray(x, dtype=float) for x in (qd, tau))
-    if QD.shape != Q.shape or TAU.shape != Q.shape:
-        raise ValueError(f"qd and tau must have the shape of q, {Q.shape}, got {QD.shape} and {TAU.shape}")
-    A1 = Q if qdd_start is None else np.ascontiguousarray(qdd_start, dtype=float)
-    known_arr = np.zeros(n_arms, dtype=bool) if known is None or qdd_start is None else np.asarray(known, dtype=bool)
-    active_arr = np.ones(n_arms, dtype=bool) if active is None else np.asarray(active, dtype=bool)
-    model = _model(robot)
-    out = StepResult(np.empty(Q.shape), np.empty(Q.shape), np.empty(Q.shape), np.zeros(n_arms, dtype=np.int8))
-    if _backend == "compiled":
-        kernels, table = model.compiled()
-        kernels.step_batch(
-            table, method == "rk4", float(dt), Q, QD, TAU, A1, known_arr, model.gravity_array(robot, gravity),
-            active_arr, out.q, out.qd, out.qdd, out.status,
-        )
+
+    def __init__(self, robot: RobotParams, n_arms: int, dt: float, method: str = "rk4", gravity: ArrayLike = GRAVITY) -> None:
+        if method not in INTEGRATORS:
+            raise ValueError(f"method must be one of {', '.join(INTEGRATORS)}, got {method!r}")
+        if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        self.robot, self.dt, self.method = robot, float(dt), method
+        self.shape = (int(n_arms), robot.n_dofs)
+        self._model = _model(robot)
+        self._g0 = self._model.gravity_array(robot, gravity).copy()
+        self._gravity = gravity
+        self._result = StepResult(*(np.empty(self.shape) for _ in range(3)), np.zeros(self.shape[0], dtype=np.int8))
+        self._all = np.ones(self.shape[0], dtype=bool)
+        self._none = np.zeros(self.shape[0], dtype=bool)
+
+    def step(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        qdd_start: FloatArray | None = None,
+        known: NDArray[np.bool_] | None = None,
+        active: NDArray[np.bool_] | None = None,
+    ) -> StepResult:
+        """One step of the arms: q, qd, tau float64 (N, n) [rad, m, per s; N·m, N].
+        ``qdd_start`` (N, n) with ``known`` (N,) bool: the acceleration at the start where
+        it is known (computed torque knows it) and finite, saving one forward dynamics.
+        ``active`` (N,) bool: only those arms are stepped (all by default)."""
+        for name, x in (("q", q), ("qd", qd), ("tau", tau)):
+            if x.shape != self.shape:
+                raise ValueError(f"{name} must have shape {self.shape}, got shape {x.shape}")
+        A1 = q if qdd_start is None else qdd_start
+        known = self._none if known is None or qdd_start is None else known
+        active = self._all if active is None else active
+        out = self._result
+        if _backend == "compiled":
+            kernels, table = self._model.compiled()
+            kernels.step_batch(
+                table, self.method == "rk4", self.dt, q, qd, tau, A1, known, self._g0, active,
+                out.q, out.qd, out.qdd, out.status,
+            )
+        else:
+            _reference_step(self.robot, q, qd, tau, self.dt, self.method, A1, known, active, self._gravity, out)
         return out
-    _reference_step(robot, Q, QD, TAU, float(dt), method, A1, known_arr, active_arr, gravity, out)
-    return out
 
 
 def _reference_step(
     robot: RobotParams, Q: FloatArray, QD: FloatArray, TAU: FloatArray, h: float, method: str,
     A1: FloatArray, known: NDArray[np.bool_], active: NDArray[np.bool_], gravity: ArrayLike, out: StepResult,
 ) -> None:
-    """:func:`integrate_step` by the reference backend's batched forward dynamics."""
+    """:meth:`Stepper.step` by the reference backend's batched forward dynamics."""
     idx = np.flatnonzero(active)
     q, v, tau = Q[idx], QD[idx], TAU[idx]
     ok = np.ones(len(idx), dtype=bool)

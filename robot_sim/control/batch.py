@@ -4,7 +4,7 @@ Each step does for every running environment what ``Simulation.step`` does for o
 in the same order and with the same floating-point operations on arrays of shape
 (n_envs, n): the controller's effort (batched: PD, PD + gravity and computed torque take
 (N, n) arrays), saturation at the drives' effort limits, one integration step of all arms
-by ``dynamics.integrate_step`` (one compiled call), velocity limits, joint limits as hard
+by a ``dynamics.Stepper`` (one compiled call), velocity limits, joint limits as hard
 stops, divergence.  So environment i of a batch ends bit for bit where a ``Simulation``
 with the same robot, gains, reference and initial state ends after the same steps.
 
@@ -107,6 +107,7 @@ class BatchSimulation:
         self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
         self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
         self._model_known = getattr(self.controller, "robot", None) is robot
+        self._stepper = dynamics.Stepper(robot, self.n_envs, self.dt, integrator)
         #: Simulated time [s] and steps taken, per environment (a stopped one stays put).
         self.time = np.zeros(self.n_envs)
         self.steps = np.zeros(self.n_envs, dtype=np.int64)
@@ -194,7 +195,6 @@ class BatchSimulation:
             self.stopped[i] = stop_message(self.time[i], reason(int(i)))
 
     def _step(self, active: NDArray[np.bool_]) -> None:
-        robot = self.robot
         q, qd = self.q, self.qd
         command = np.array(np.broadcast_to(self.controller.torque(q, qd, self.q_des, self.qd_des, self.qdd_des), q.shape))
         bad = active & ~_row_finite(command)
@@ -207,11 +207,9 @@ class BatchSimulation:
         if self._model_known:
             qdd_start = self.controller.commanded_acceleration()
             if qdd_start is not None:
-                qdd_start = np.broadcast_to(qdd_start, q.shape)
+                qdd_start = np.array(np.broadcast_to(qdd_start, q.shape), dtype=float)
                 known = ~saturated.any(axis=1)
-        result = dynamics.integrate_step(
-            robot, q, qd, tau, self.dt, self.integrator, qdd_start=qdd_start, known=known, active=active,
-        )
+        result = self._stepper.step(q, qd, tau, qdd_start, known, active)
         for status, why in ((dynamics.STEP_BAD_STATE, "the joint state became non-finite"),
                             (dynamics.STEP_BAD_ACCEL, "the joint acceleration became non-finite")):
             failed = active & (result.status == status)

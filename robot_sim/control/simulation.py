@@ -160,6 +160,7 @@ class Simulation:
         self._pull: tuple[FloatArray, float, float] | None = None
         self._pull_kin: tuple[Kinematics, RobotState] | None = None
         self.pull_force = np.zeros(3)
+        self._stepper: dynamics.Stepper | None = None
         self.load_state()
 
     # ------------------------------------------------------------------ configuration
@@ -312,17 +313,17 @@ class Simulation:
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(q, qd) after one step and the acceleration at its start (``a1`` when known)."""
         h = self.dt
-        if f_tool is None:  # one call of dynamics.integrate_step (a fused kernel when compiled)
-            step = dynamics.integrate_step(
-                self.robot, q[None], qd[None], tau[None], h, self._integrator,
-                qdd_start=None if a1 is None else a1[None], known=_ONE_TRUE,
-            )
+        if f_tool is None:  # one call of a dynamics.Stepper (a fused kernel when compiled)
+            stepper = self._stepper
+            if stepper is None or stepper.dt != h or stepper.method != self._integrator:
+                stepper = self._stepper = dynamics.Stepper(self.robot, 1, h, self._integrator)
+            step = stepper.step(q[None], qd[None], tau[None], None if a1 is None else a1[None], _ONE_TRUE)
             status = step.status[0]
             if status == dynamics.STEP_BAD_STATE:
                 raise _Diverged("the joint state became non-finite")
             if status == dynamics.STEP_BAD_ACCEL:
                 raise _Diverged("the joint acceleration became non-finite")
-            return step.q[0], step.qd[0], step.qdd[0]
+            return step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
         if a1 is None or not _finite(a1):
             a1 = self._accel(q, qd, tau, f_tool)
         if self._integrator == "euler":
