@@ -29,11 +29,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import mujoco  # noqa: E402
 
 from oracle_arms import without_drives  # noqa: E402
-from control import ComputedTorque, control_gains  # noqa: E402
-from robot_defs import RobotParams, load_robot  # noqa: E402
 from robot_sim.control.batch import BatchSimulation  # noqa: E402
-from simulation import Simulation  # noqa: E402
-from urdf import to_urdf  # noqa: E402
+from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
+from robot_sim.control.simulation import Simulation  # noqa: E402
+from robot_sim.io.robot_file import load_robot  # noqa: E402
+from robot_sim.io.urdf_out import to_urdf  # noqa: E402
+from robot_sim.model.params import RobotParams  # noqa: E402
 
 STEPS = 500
 DT = 1e-3

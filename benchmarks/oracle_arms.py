@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from robot_defs import RobotParams
+from robot_sim.model.params import RobotParams
 
 
 def without_drives(robot: RobotParams) -> RobotParams:

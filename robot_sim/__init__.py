@@ -44,6 +44,8 @@ _EXPORTS = {
     "Simulation": "robot_sim.control.simulation",
     "LimitEvent": "robot_sim.control.simulation",
     "make_controller": "robot_sim.control.controllers",
+    "BatchSimulation": "robot_sim.control.batch",
+    "sweep": "robot_sim.control.sweep",
     # conversion and files
     "to_standard": "robot_sim.model.convert",
     "to_modified": "robot_sim.model.convert",

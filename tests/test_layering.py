@@ -16,7 +16,8 @@ ALLOWED = {
     "model": {"transforms"},
     "io": {"model", "transforms"},
     "kinematics": {"model", "transforms"},
-    "dynamics": {"model", "kinematics", "transforms"},
+    "dynamics_compiled": set(),  # numba kernels of dynamics: numpy and numba only
+    "dynamics": {"model", "kinematics", "dynamics_compiled", "transforms"},
     "collision": {"model", "io", "kinematics", "dynamics", "transforms"},
     "control": {"model", "io", "kinematics", "dynamics", "collision", "planning", "transforms"},
     "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},

@@ -24,10 +24,10 @@ from typing import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-import dynamics
-from control import ComputedTorque, Controller, Gains, make_controller
-from robot_defs import RobotParams
-from simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, drive_limits, stop_message
+from robot_sim import dynamics
+from robot_sim.control.controllers import ComputedTorque, Controller, Gains, make_controller
+from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, drive_limits, stop_message
+from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
 #: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s].
