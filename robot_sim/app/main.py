@@ -43,8 +43,13 @@ def launch(config: Config) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``robot-sim``; returns the exit status (2 for bad input)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["sweep"]:  # robot-sim sweep ...: its own parser (robot_sim.app.sweep_cmd)
+        from robot_sim.app import sweep_cmd
+
+        return sweep_cmd.main(argv[1:])
     try:
-        args = build_parser().parse_args(attach_negative_values(sys.argv[1:] if argv is None else argv))
+        args = build_parser().parse_args(attach_negative_values(argv))
         if args.list_robots:
             print(robots_table())
             return 0

@@ -23,8 +23,8 @@ seconds.  Parameters of a run:
 
 Metrics (columns of the table, :data:`METRICS`): ``tracking_rms`` (RMS over time and
 joints of q_des − q [rad or m]), ``peak_effort`` (largest |τ| applied [N·m or N]),
-``settling_time`` [s] (from which every joint stays within :data:`SETTLE_FRACTION` of its
-step, at least :data:`SETTLE_FLOOR`; inf if it never does), ``limit_hits`` (joint-limit
+``settling_time`` [s] (the last time a joint was farther than :data:`SETTLE_FRACTION` of its
+step, at least :data:`SETTLE_FLOOR`, from its target; inf if still at the end), ``limit_hits`` (joint-limit
 arrivals), ``diverged`` (1 if the run stopped on a non-finite state).
 """
 from __future__ import annotations
@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.control.batch import BatchSimulation, batched_controller
 from robot_sim.control.controllers import Gains, control_gains
-from robot_sim.control.simulation import DEFAULT_DT
+from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS
 from robot_sim.io.files import write_atomic
 from robot_sim.model.inertials import LinkInertials, _combine
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
@@ -259,6 +259,8 @@ def sweep(
     """
     if controller not in MODES:
         raise ValueError(f"controller must be one of {', '.join(MODES)}, got {controller!r}")
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
     if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration >= dt):
         raise ValueError(f"duration must be a finite number of seconds >= dt ({dt}), got {duration!r}")
     metrics = tuple(metrics)
@@ -267,6 +269,10 @@ def sweep(
         raise ValueError(f"metrics must be some of {', '.join(METRICS)}, got {bad[0] if bad else 'none'!r}")
     if isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1:
         raise ValueError(f"chunk_size must be a positive integer, got {chunk_size!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be a positive integer (or None: one per core), got {workers!r}")
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {integrator!r}")
     runs = _runs(robot, grid_or_samples)
     for run in runs[:1]:
         _gains(robot, controller, run)  # bad gains fail here, before any work

@@ -1,0 +1,166 @@
+"""The compiled dynamics kernels (robot_sim.dynamics_compiled) against the readable
+recursion of robot_sim.dynamics (backend "reference") on random chains of both
+conventions, with prismatic joints, drives and tool wrenches; the backend switch; the
+kernels' own sine and cosine; one fixed step against the reference step."""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from kin_helpers import CONVENTIONS, random_dh_robot, random_inertials, random_q
+from robot_sim import dynamics as dyn
+from robot_sim import dynamics_compiled as dc
+from robot_sim.model.inertials import Drives
+
+TOL = 1e-12  # relative to the size of the quantity
+
+
+def _chain(seed: int, n: int, convention: str, drives: bool):
+    rng = np.random.default_rng(seed)
+    rob = random_dh_robot(rng, n, convention=convention)
+    rob = dataclasses.replace(rob, inertials=random_inertials(rng, n))
+    if drives:
+        rob = dataclasses.replace(rob, drives=Drives.from_arrays(
+            n, motor_inertia=rng.uniform(0, 1e-3, n), gear_ratio=rng.uniform(-50, 50, n),
+            viscous=rng.uniform(0, 1e-3, n), coulomb=np.column_stack([rng.uniform(0, .1, n), -rng.uniform(0, .1, n)])))
+    return rob, rng
+
+
+def _both(fn):
+    """fn() under each backend: (compiled, reference)."""
+    out = []
+    for name in ("compiled", "reference"):
+        dyn.set_backend(name)
+        try:
+            out.append(fn())
+        finally:
+            dyn.set_backend("compiled")
+    return out
+
+
+def _close(a, b, what):
+    a, b = np.asarray(a), np.asarray(b)
+    scale = max(1.0, float(np.abs(b).max()))
+    assert np.abs(a - b).max() <= TOL * scale, f"{what}: compiled and reference differ by {np.abs(a - b).max():.3g}"
+
+
+CASES = [(seed, n, conv, drives) for conv in CONVENTIONS for seed, n, drives in ((1, 1, False), (2, 3, True), (3, 6, False), (4, 7, True))]
+
+
+@pytest.mark.parametrize(("seed", "n", "convention", "drives"), CASES)
+def test_compiled_equals_reference_on_random_chains(seed, n, convention, drives):
+    rob, rng = _chain(seed, n, convention, drives)
+    N = 40
+    Q, QD, QDD = random_q(rob, rng, N), rng.normal(size=(N, n)), rng.normal(size=(N, n))
+    F = rng.normal(size=(N, 6))
+    for what, fn in {
+        "inverse_dynamics": lambda: dyn.inverse_dynamics(rob, Q, QD, QDD),
+        "inverse_dynamics with f_tool": lambda: dyn.inverse_dynamics(rob, Q, QD, QDD, f_tool=F),
+        "gravity_torque": lambda: dyn.gravity_torque(rob, Q),
+        "bias_torque": lambda: dyn.bias_torque(rob, Q, QD),
+        "mass_matrix": lambda: dyn.mass_matrix(rob, Q),
+        "single inverse_dynamics": lambda: dyn.inverse_dynamics(rob, Q[0], QD[0], QDD[0]),
+        "single gravity_torque": lambda: dyn.gravity_torque(rob, Q[1]),
+        "single mass_matrix": lambda: dyn.mass_matrix(rob, Q[2]),
+        "other gravity": lambda: dyn.inverse_dynamics(rob, Q[3], QD[3], QDD[3], gravity=(1.0, -2.0, -9.0)),
+    }.items():
+        _close(*_both(fn), what)
+    # forward dynamics: the same accelerations, measured by the torques they need
+    for what, fn in {
+        "forward_dynamics": lambda: dyn.forward_dynamics(rob, Q, QD, QDD, f_tool=F),
+        "single forward_dynamics": lambda: dyn.forward_dynamics(rob, Q[0], QD[0], QDD[0]),
+    }.items():
+        compiled, reference = _both(fn)
+        M = dyn.mass_matrix(rob, Q if compiled.ndim == 2 else Q[0])
+        diff = np.einsum("...ij,...j->...i", M, compiled - reference)
+        assert np.abs(diff).max() <= TOL * max(1.0, np.abs(QDD).max() * np.abs(M).max()), what
+
+
+def test_one_configuration_equals_its_row_of_a_batch_bit_for_bit():
+    rob, rng = _chain(7, 7, "modified", True)
+    Q, QD, QDD = random_q(rob, rng, 5), rng.normal(size=(5, 7)), rng.normal(size=(5, 7))
+    batch_id, batch_fd = dyn.inverse_dynamics(rob, Q, QD, QDD), dyn.forward_dynamics(rob, Q, QD, QDD)
+    for i in range(5):
+        assert np.array_equal(dyn.inverse_dynamics(rob, Q[i], QD[i], QDD[i]), batch_id[i])
+        assert np.array_equal(dyn.forward_dynamics(rob, Q[i], QD[i], QDD[i]), batch_fd[i])
+
+
+@pytest.mark.parametrize("method", ["rk4", "euler"])
+def test_one_step_equals_the_reference_step(method):
+    rob, rng = _chain(8, 6, "standard", True)
+    N = 6
+    Q, QD, TAU = random_q(rob, rng, N), rng.normal(size=(N, 6)), rng.normal(size=(N, 6))
+    known = np.array([True, False] * 3)
+    A1 = dyn.forward_dynamics(rob, Q, QD, TAU)
+    active = np.array([True] * 5 + [False])
+
+    def run():
+        out = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, A1, known, active)
+        return out.q.copy(), out.qd.copy(), out.qdd.copy(), out.status.copy()
+
+    (q_c, qd_c, a_c, s_c), (q_r, qd_r, a_r, s_r) = _both(run)
+    assert (s_c[:5] == dyn.STEP_OK).all() and (s_r[:5] == dyn.STEP_OK).all()
+    for c, r, what in ((q_c, q_r, "q"), (qd_c, qd_r, "qd"), (a_c, a_r, "qdd")):
+        _close(c[:5], r[:5], what)
+    # RK4 against a much finer Euler integration of the same dynamics, as an independent check
+    if method == "rk4":
+        q, qd = Q[:1].copy(), QD[:1].copy()
+        fine = dyn.Stepper(rob, 1, 1e-6, "euler")
+        for _ in range(1000):
+            out = fine.step(q, qd, TAU[:1])
+            q, qd = out.q.copy(), out.qd.copy()
+        np.testing.assert_allclose(q[0], q_c[0], atol=1e-8)
+
+
+def test_a_failing_arm_is_reported_and_the_others_stepped():
+    rob, rng = _chain(9, 3, "standard", False)
+    Q, QD, TAU = random_q(rob, rng, 3), rng.normal(size=(3, 3)), rng.normal(size=(3, 3))
+    QD[1] = 1e200  # stage velocities overflow
+    TAU[2, 0] = np.inf
+    out = dyn.Stepper(rob, 3, 1e-3).step(Q, QD, TAU)
+    assert out.status[0] == dyn.STEP_OK and np.isfinite(out.q[0]).all()
+    assert out.status[1] in (dyn.STEP_BAD_STATE, dyn.STEP_BAD_ACCEL)
+    assert out.status[2] == dyn.STEP_BAD_ACCEL
+
+
+@pytest.mark.parametrize("backend", ["compiled", "reference"])
+def test_non_finite_arguments_are_named_under_both_backends(backend):
+    rob, rng = _chain(5, 4, "standard", False)
+    q, qd = random_q(rob, rng), rng.normal(size=4)
+    bad = qd.copy()
+    bad[2] = np.nan
+    dyn.set_backend(backend)
+    try:
+        with pytest.raises(ValueError, match="qd must be finite"):
+            dyn.inverse_dynamics(rob, q, bad, qd)
+        with pytest.raises(ValueError, match="tau must be finite"):
+            dyn.forward_dynamics(rob, q, qd, bad)
+        with pytest.raises(ValueError, match="q must be finite"):
+            dyn.mass_matrix(rob, np.tile(bad, (3, 1)))
+        with pytest.raises(ValueError, match="q must be finite"):
+            dyn.gravity_torque(rob, bad)
+        with pytest.raises(ValueError, match=r"shape \(4,\)"):
+            dyn.inverse_dynamics(rob, q[:3], qd[:3], qd[:3])
+        # lists and non-contiguous rows go the checked way and give the same numbers
+        Q = np.asfortranarray(np.tile(q, (2, 1)))
+        assert np.array_equal(dyn.inverse_dynamics(rob, list(q), list(qd), list(qd)), dyn.inverse_dynamics(rob, Q[0], qd, qd))
+    finally:
+        dyn.set_backend("compiled")
+
+
+def test_backend_switch_is_checked():
+    with pytest.raises(ValueError, match="backend must be one of compiled, reference"):
+        dyn.set_backend("fast")
+    assert dyn.backend() == "compiled"
+
+
+def test_kernel_sine_and_cosine_match_the_c_library():
+    rng = np.random.default_rng(0)
+    x = np.concatenate([rng.normal(scale=s, size=2000) for s in (0.1, 1.0, 10.0, 1e3, 1e5, 1e7)])
+    x = np.concatenate([x, [0.0, -0.0, math.pi / 2, -math.pi, 3 * math.pi / 4, 1e5, -1e5, 2e5]])
+    out = np.array([dc.cos_sin(v) for v in x[:: 7]])  # interpreted calls: the same formulas
+    ref = np.column_stack([np.cos(x[:: 7]), np.sin(x[:: 7])])
+    assert np.abs(out - ref).max() <= 2.3e-16 * 2
