@@ -1,8 +1,9 @@
 """Rigid-body dynamics of DH serial chains, for one configuration or a batch.
 
 Every function takes a :class:`~robot_sim.model.params.RobotParams` with inertial data and joint
-vectors of shape (n,) or (N, n) (batched without a per-configuration Python loop: the
-kernels walk the chain joint by joint on arrays of configurations).
+vectors of shape (n,) or (N, n) (batched without a per-configuration Python loop: compiled
+code, or the readable recursion walking the chain joint by joint on arrays of
+configurations).
 
 Conventions
 -----------
@@ -22,10 +23,17 @@ Conventions
   link inertials are in frame i of the robot's convention.
 
 Algorithms: recursive Newton–Euler for inverse dynamics, gravity and bias; composite rigid
-bodies for M; forward dynamics by M solve (a batched Cholesky, see README for the
+bodies for M; forward dynamics by M solve (a Cholesky factorisation, see README for the
 measurement behind the choice).  Internally each link's quantities live in its own frame,
 so mass, first moment and inertia are constants; vectors are triples of arrays, and terms
 with structurally zero factors (twists of 0/±90°, zero offsets, a fixed base) are skipped.
+
+Two implementations (:func:`set_backend`, or ``ROBOT_SIM_DYNAMICS=reference`` in the
+environment): ``"compiled"`` (default) runs the numba kernels of
+:mod:`robot_sim.dynamics_compiled`, the same algorithms as scalar code over one
+configuration, a batch being N calls of it; ``"reference"`` runs the readable recursion of
+this module (``_rnea_terms``, ``_crba_terms``) on arrays of configurations, or on Python
+floats for one.  The tests hold the two to 1e-12; :class:`Stepper` steps N arms at once.
 
 This module imports neither Qt nor OpenGL.
 """
@@ -250,7 +258,6 @@ class _DynModel:
         self.coulomb_pos = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 0]
         self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
         self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
-        self.kernels: dict = {}  # compiled straight-line kernels, see _compile
         self.table: FloatArray | None = None  # parameter table of the compiled kernels
         self.zero = np.zeros(n)  # zero rates for the compiled kernels (read only by them)
         self.base_rotation = robot.base_tf.R().copy()
@@ -477,89 +484,6 @@ def _crba_terms(model: _DynModel, cos: list[Scalar], sin: list[Scalar], q: list[
     return out
 
 
-# ------------------------------------------------------------------ compiled kernels
-# The functions above are run once per robot (and variant) on symbols instead of arrays;
-# the operations they perform on non-constant values are recorded as straight-line Python
-# source and compiled.  The compiled kernel does exactly those NumPy operations on arrays
-# (a batch) or the same float operations on Python floats (one configuration), without
-# the bookkeeping of the readable code above (its cost is per call, not per configuration).
-
-
-class _Sym:
-    """A named non-constant value while tracing; arithmetic records a line of source."""
-
-    __slots__ = ("name", "lines")
-
-    def __init__(self, name: str, lines: list[str]) -> None:
-        self.name, self.lines = name, lines
-
-    def _emit(self, expr: str) -> "_Sym":
-        name = f"v{len(self.lines)}"
-        self.lines.append(f"{name} = {expr}")
-        return _Sym(name, self.lines)
-
-    @staticmethod
-    def _term(x: object) -> str:
-        return x.name if isinstance(x, _Sym) else repr(float(x))
-
-    def __add__(self, other: object) -> "_Sym":
-        return self._emit(f"{self.name} + {self._term(other)}")
-
-    def __radd__(self, other: object) -> "_Sym":
-        return self._emit(f"{self._term(other)} + {self.name}")
-
-    def __sub__(self, other: object) -> "_Sym":
-        return self._emit(f"{self.name} - {self._term(other)}")
-
-    def __rsub__(self, other: object) -> "_Sym":
-        return self._emit(f"{self._term(other)} - {self.name}")
-
-    def __mul__(self, other: object) -> "_Sym":
-        return self._emit(f"{self.name} * {self._term(other)}")
-
-    def __rmul__(self, other: object) -> "_Sym":
-        return self._emit(f"{self._term(other)} * {self.name}")
-
-    def __neg__(self) -> "_Sym":
-        return self._emit(f"-{self.name}")
-
-
-def _compile(model: _DynModel, kind: str, g0: tuple[float, float, float], rates: tuple[bool, bool], ext: bool):
-    """kernel(c, s, q, qd, qdd, e) -> tuple of outputs, for ``kind`` "rnea" or "crba"."""
-    lines: list[str] = []
-    n = model.n
-    cos = [_Sym(f"c{j}", lines) if model.revolute[j] else model.ct[j] for j in range(n)]
-    sin = [_Sym(f"s{j}", lines) if model.revolute[j] else model.st[j] for j in range(n)]
-    q = [0.0 if model.revolute[j] else _Sym(f"q{j}", lines) for j in range(n)]
-    head = [f"c{j} = c[{j}]; s{j} = s[{j}]" if model.revolute[j] else f"q{j} = q[{j}]" for j in range(n)]
-    if kind == "crba":
-        outputs = _crba_terms(model, cos, sin, q)
-    else:
-        qd = [_Sym(f"qd{j}", lines) for j in range(n)] if rates[0] else None
-        qdd = [_Sym(f"qdd{j}", lines) for j in range(n)] if rates[1] else None
-        head += [f"qd{j} = qd[{j}]" for j in range(n)] if rates[0] else []
-        head += [f"qdd{j} = qdd[{j}]" for j in range(n)] if rates[1] else []
-        wrench = None
-        if ext:
-            e = [_Sym(f"e{k}", lines) for k in range(6)]
-            head += [f"e{k} = e[{k}]" for k in range(6)]
-            wrench = (tuple(e[:3]), tuple(e[3:]))
-        outputs = _rnea_terms(model, cos, sin, q, qd, qdd, g0, wrench)
-    body = head + lines + ["return (" + ", ".join(_Sym._term(o) for o in outputs) + ",)"]
-    source = "def kernel(c, s, q, qd, qdd, e):\n" + "".join(f"    {line}\n" for line in body)
-    namespace: dict = {}
-    exec(compile(source, f"<dynamics kernel {kind}>", "exec"), namespace)  # our own generated source
-    return namespace["kernel"]
-
-
-def _kernel(model: _DynModel, kind: str, g0: tuple = (0.0, 0.0, 0.0), rates: tuple = (False, False), ext: bool = False):
-    key = (kind, g0, rates, ext)
-    kernel = model.kernels.get(key)
-    if kernel is None:
-        kernel = model.kernels[key] = _compile(model, kind, g0, rates, ext)
-    return kernel
-
-
 def _shift(m: Scalar, h: Vec, inertia: tuple, r: Vec) -> tuple[Vec, tuple]:
     """First moment and inertia of a body about a point moved by −r (r = old − new point)."""
     h_new = _vadd(h, _scale(m, r))
@@ -735,20 +659,20 @@ def _rnea(
         return tau.T
     g0 = model.gravity_in_frame0(robot, gravity)
     wrench = None if f_tool is None else _rows(_tool_wrench_in_last_frame(robot, Q, f_tool))
-    kernel = _kernel(model, "rnea", g0, (QD is not None, QDD is not None), wrench is not None)
     QT, QDT, QDDT = _rows(Q), _rows(QD), _rows(QDD)
     if QT.shape[1] == 1:  # one configuration: Python floats throughout
         cos, sin, q = _joint_inputs(model, QT)
         ext = None if wrench is None else _rate_inputs(wrench)
-        tau = np.array(kernel(cos, sin, q, _rate_inputs(QDT), _rate_inputs(QDDT), ext))[:, None]
+        ext = None if ext is None else (tuple(ext[:3]), tuple(ext[3:]))
+        tau = np.array(_rnea_terms(model, cos, sin, q, _rate_inputs(QDT), _rate_inputs(QDDT), g0, ext), dtype=float)[:, None]
     else:
         tau = np.empty(QT.shape)
         for s in range(0, QT.shape[1], CHUNK):
             sl = slice(s, s + CHUNK)
             cos, sin, q = _joint_inputs(model, QT[:, sl])
             rates = [None if X is None else X[:, sl] for X in (QDT, QDDT)]
-            ext = None if wrench is None else wrench[:, sl]
-            for j, value in enumerate(kernel(cos, sin, q, rates[0], rates[1], ext)):
+            ext = None if wrench is None else (tuple(wrench[:3, sl]), tuple(wrench[3:, sl]))
+            for j, value in enumerate(_rnea_terms(model, cos, sin, q, rates[0], rates[1], g0, ext)):
                 tau[j, sl] = value
     drive = _drive_torque(model, QDT, QDDT)
     if drive is not None:
@@ -760,9 +684,9 @@ def _crba(model: _DynModel, QT: FloatArray) -> FloatArray:
     """Mass matrices (n, n, M) of a chunk (n, M)."""
     n = model.n
     cos, sin, q = _joint_inputs(model, QT)
-    values = _kernel(model, "crba")(cos, sin, q, None, None, None)
+    values = _crba_terms(model, cos, sin, q)
     if QT.shape[1] == 1:
-        return np.array(values).reshape(n, n, 1)
+        return np.array(values, dtype=float).reshape(n, n, 1)
     out = np.empty((n, n, QT.shape[1]))
     for k, value in enumerate(values):
         out[k // n, k % n] = value
