@@ -1,4 +1,5 @@
-"""Dynamics rows of ``make bench`` and their baseline, measured in the same run.
+"""Dynamics rows of ``make bench`` and their baseline, measured in the same run: each row
+for both backends of ``dynamics`` (the compiled kernels and the readable recursion).
 
 The baseline is the textbook recursive Newton–Euler algorithm (Luh, Walker & Paul) written
 straightforwardly with NumPy 3-vectors and 3×3 matrices, one configuration at a time; its
@@ -8,7 +9,8 @@ M q̈ = τ − bias with ``np.linalg.solve``.  Standard DH only (the benchmark r
 from __future__ import annotations
 
 import math
-from typing import Callable
+from contextlib import contextmanager
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -17,6 +19,16 @@ from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 
 N_BATCH = 10**5
 N_BASELINE = 300
+
+
+@contextmanager
+def using(backend: str) -> Iterator[None]:
+    """Run the block with ``dynamics`` on ``backend``, then back to the compiled one."""
+    dynamics.set_backend(backend)
+    try:
+        yield
+    finally:
+        dynamics.set_backend("compiled")
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -105,19 +117,23 @@ def bench_dynamics(
     ]
     for what, target, ours, base in rows:
         base_per = median_iqr(measure(base, repeats=5))[0] / N_BASELINE
-        med, iqr = median_iqr(measure(ours, repeats=7))
-        per = med / N_BATCH
-        table.add(
-            f"batched {what}, {robot.name}, N = 1e5 (µs/config)",
-            f"{per * 1e6:.3f} µs", f"{iqr / N_BATCH * 1e6:.3f} µs",
-            f"{base_per * 1e6:.1f} µs", f"{base_per / per:.0f}×", target,
-        )
+        for backend in dynamics.BACKENDS:  # compiled kernels, then the readable recursion on arrays
+            with using(backend):
+                med, iqr = median_iqr(measure(ours, repeats=7 if backend == "compiled" else 3))
+            per = med / N_BATCH
+            table.add(
+                f"batched {what}, {robot.name}, N = 1e5, {backend} (µs/config)",
+                f"{per * 1e6:.3f} µs", f"{iqr / N_BATCH * 1e6:.3f} µs",
+                f"{base_per * 1e6:.1f} µs", f"{base_per / per:.0f}×", target,
+            )
     for what, fn in (
         ("inverse dynamics", lambda: dynamics.inverse_dynamics(robot, q0[0], qd0[0], qdd0[0])),
         ("forward dynamics", lambda: dynamics.forward_dynamics(robot, q0[0], qd0[0], qdd0[0])),
     ):
-        med, iqr = median_iqr(measure(fn, repeats=15, number=50))
-        table.add(f"single-configuration {what} call, {robot.name}", us(med), us(iqr))
+        for backend in dynamics.BACKENDS:
+            with using(backend):
+                med, iqr = median_iqr(measure(fn, repeats=15, number=200 if backend == "compiled" else 10))
+            table.add(f"single-configuration {what} call, {robot.name}, {backend}", us(med), us(iqr))
     # what the forward-dynamics solve costs: our batched Cholesky vs NumPy's batched LAPACK solve
     M = dynamics.mass_matrix(robot, Q)
     b = np.ascontiguousarray(QDD.T)

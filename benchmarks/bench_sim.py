@@ -1,17 +1,23 @@
 """Benchmark rows of the physics loop (called by bench.py; runnable alone for a quick look).
 
-One simulation step of humanoid7 at 1 kHz with RK4 and computed torque, and where its time
-goes: three ``dynamics.forward_dynamics`` calls (RK4 stages 2–4; stage 1's acceleration
-is computed torque's reference acceleration, exact on the model), one
-``dynamics.inverse_dynamics`` (the controller) and the loop itself (control law, RK4
-sums, limit and finiteness checks).  The baseline, measured in the same run, is the
-same step with each stage's acceleration computed the textbook way,
-``solve(mass_matrix(q), τ − bias_torque(q, q̇))`` (two dynamics calls and a solve).
+* One simulation step at 1 kHz, RK4, on UR5, Panda and humanoid7: passive and with
+  computed torque (per step of a run of :data:`STEPS`; the baseline column is the same
+  step with the reference backend of ``dynamics``, the readable recursion), and one
+  ``Simulation.step()`` call on its own (which also writes the state to the RobotState).
+* ``BatchSimulation`` with computed torque on humanoid7: µs per arm-step at n_envs =
+  10 … 10 000 (one core).
+* A sweep of :data:`SWEEP_RUNS` runs (UR5, computed torque over kp, 0.1 s each): wall
+  time on the local cores and, when dask.distributed is installed, on a LocalCluster of
+  two worker processes.
+
+MuJoCo's ``mj_step`` on the same arms, alternated in one run, is the optional
+``benchmarks/compare_mujoco.py``.
 """
 from __future__ import annotations
 
 import os
 import sys
+import time
 from pathlib import Path
 from typing import Any, Callable
 
@@ -21,65 +27,94 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from robot_sim import dynamics  # noqa: E402
+from bench_dynamics import using  # noqa: E402
+from robot_sim.control.batch import BatchSimulation  # noqa: E402
 from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
-from robot_sim.model.params import RobotParams
-from robot_sim.io.robot_file import load_robot  # noqa: E402
 from robot_sim.control.simulation import Simulation  # noqa: E402
+from robot_sim.control.sweep import sweep  # noqa: E402
+from robot_sim.io.robot_file import load_robot  # noqa: E402
+from robot_sim.model.params import RobotParams  # noqa: E402
 
 STEPS = 200  # steps per sample
+ROBOTS = ("ur5", "panda", "humanoid7")
+N_ENVS = (10, 100, 1000, 10_000)
+SWEEP_RUNS = 10_000
+SWEEP_DURATION = 0.1
 
 
-class _TextbookStep(Simulation):
-    """The same loop with q̈ = M⁻¹ (τ − b) from mass_matrix and bias_torque (the baseline)."""
-
-    def _accel(self, q, qd, tau, f_tool):  # type: ignore[no-untyped-def]
-        rhs = tau - dynamics.bias_torque(self.robot, q, qd)
-        return np.linalg.solve(dynamics.mass_matrix(self.robot, q), rhs)
-
-
-class _LoopOnly(Simulation):
-    """The loop with the dynamics answered instantly (zero acceleration): its own cost."""
-
-    def _accel(self, q, qd, tau, f_tool):  # type: ignore[no-untyped-def]
-        return np.zeros_like(q)
-
-
-class _PresetTorque(ComputedTorque):
-    """Computed torque's control law with inverse dynamics answered instantly."""
-
-    def torque(self, q, qd, q_des, qd_des, qdd_des):  # type: ignore[no-untyped-def]
-        return qdd_des + self.kp * (q_des - q) + self.kd * (qd_des - qd)
-
-
-def _simulation(robot: RobotParams, cls: type[Simulation]) -> Simulation:
-    sim = cls(robot, controller=ComputedTorque(robot, control_gains(robot)), integrator="rk4", dt=1e-3)
+def _simulation(robot: RobotParams, ct: bool) -> Simulation:
+    controller = ComputedTorque(robot, control_gains(robot)) if ct else None
+    sim = Simulation(robot, controller=controller, integrator="rk4", dt=1e-3)
     sim.state.set_q_des(robot.q_home + 0.3)  # a set point away from the start: the arm moves
     return sim
 
 
-def bench_simulation(table: Any, measure: Callable[..., list[float]], median_iqr: Callable, us: Callable[[float], str]) -> None:
+def _run(sim: Simulation) -> None:
+    sim.load_state()  # from the same start every sample
+    sim.step(STEPS)
+
+
+def bench_one_arm(table: Any, measure: Callable[..., list[float]], median_iqr: Callable, us: Callable[[float], str]) -> None:
+    for name in ROBOTS:
+        robot = load_robot(name)
+        per_step = {}
+        for ct in (False, True):
+            sim = _simulation(robot, ct)
+            med, iqr = median_iqr(measure(lambda: _run(sim), repeats=9))
+            with using("reference"):
+                base = median_iqr(measure(lambda: _run(sim), repeats=3))[0] if name == "humanoid7" else None
+            per_step[ct] = med / STEPS
+            table.add(
+                f"simulation step, {name}, 1 kHz, RK4" + (" + computed torque" if ct else ", passive"),
+                us(med / STEPS), us(iqr / STEPS),
+                "—" if base is None else us(base / STEPS) + " (reference)",
+                "—" if base is None else f"{base / med:.0f}×",
+                "≤ 1.2 × passive" if ct else "≤ 3 × mj_step",
+            )
+        table.add(f"… computed torque / passive, {name}", f"{per_step[True] / per_step[False]:.2f}", "—", target="≤ 1.2")
+    sim = _simulation(load_robot("humanoid7"), True)
+    med, iqr = median_iqr(measure(sim.step, repeats=9, number=100))
+    table.add("one `Simulation.step()` call, humanoid7, RK4 + CT (state written to the RobotState)", us(med), us(iqr))
+
+
+def bench_batch(table: Any, measure: Callable[..., list[float]], median_iqr: Callable, us: Callable[[float], str]) -> None:
     robot = load_robot("humanoid7")
-    sim, base = _simulation(robot, Simulation), _simulation(robot, _TextbookStep)
-    base_med, _ = median_iqr(measure(lambda: base.step(STEPS), repeats=5))
-    med, iqr = median_iqr(measure(lambda: sim.step(STEPS), repeats=9))
-    step, base_step = med / STEPS, base_med / STEPS
-    table.add(
-        "simulation step, humanoid7, 1 kHz, RK4 + computed torque",
-        f"{us(step)} (real-time factor {1e-3 / step:.1f})",
-        us(iqr / STEPS),
-        us(base_step),
-        f"{base_step / step:.1f}×",
-        "≤ 250 µs",
-    )
-    q, qd, tau = sim.q.copy(), sim.qd.copy(), sim.effort.copy()
-    fd, _ = median_iqr(measure(lambda: dynamics.forward_dynamics(robot, q, qd, tau), repeats=9, number=200))
-    inv, _ = median_iqr(measure(lambda: dynamics.inverse_dynamics(robot, q, qd, tau), repeats=9, number=200))
-    table.add("… 3 × forward_dynamics (RK4 stages 2–4), one configuration", us(3 * fd), "—")
-    table.add("… 1 × inverse_dynamics (computed torque), one configuration", us(inv), "—")
-    loop = _LoopOnly(robot, controller=_PresetTorque(robot, control_gains(robot)), integrator="rk4", dt=1e-3)
-    own, _ = median_iqr(measure(lambda: loop.step(STEPS), repeats=9))
-    table.add("… the loop itself (control law, RK4 sums, limits, checks)", us(own / STEPS), "—")
+    for n_envs in N_ENVS:
+        batch = BatchSimulation(robot, n_envs, controller="ct", integrator="rk4", dt=1e-3)
+        batch.set_reference(q=robot.q_home + 0.3)
+        steps = max(2, 20_000 // n_envs)
+        med, iqr = median_iqr(measure(lambda: batch.step(steps), repeats=5))
+        per = med / (steps * n_envs)
+        table.add(f"BatchSimulation, humanoid7, RK4 + CT, n_envs = {n_envs} (µs per arm-step)",
+                  us(per), us(iqr / (steps * n_envs)), target="≤ mj_step (n_envs = 1000)")
+
+
+def bench_sweep(table: Any, seconds: Callable[[float], str]) -> None:
+    robot = load_robot("ur5")
+    grid = {"kp": np.linspace(100.0, 1000.0, SWEEP_RUNS)}
+    start = time.perf_counter()
+    local = sweep(robot, grid, "ct", duration=SWEEP_DURATION)
+    wall = time.perf_counter() - start
+    table.add(f"sweep of {SWEEP_RUNS} runs (UR5, CT, {SWEEP_DURATION} s each), local cores ({os.cpu_count()})",
+              seconds(wall), "—")
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        return
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        sweep(robot, {"kp": [100.0, 200.0]}, "ct", duration=0.01, client=client)  # workers warm (imports, kernels)
+        start = time.perf_counter()
+        remote = sweep(robot, grid, "ct", duration=SWEEP_DURATION, client=client)
+        wall = time.perf_counter() - start
+    assert remote.equals(local), "the cluster's table differs from the local one"
+    table.add(f"same sweep on a dask LocalCluster of 2 workers (same table)", seconds(wall), "—")
+
+
+def bench_simulation(table: Any, measure: Callable[..., list[float]], median_iqr: Callable, us: Callable[[float], str]) -> None:
+    bench_one_arm(table, measure, median_iqr, us)
+    bench_batch(table, measure, median_iqr, us)
+    bench_sweep(table, lambda s: f"{s:.2f} s")
 
 
 if __name__ == "__main__":

@@ -4,10 +4,11 @@ MuJoCo is not a dependency of this project (``pip install mujoco`` to run this).
 arm is exported through our URDF writer and loaded by MuJoCo's URDF importer with
 contacts off, RK4 at 1 kHz (as ``Simulation`` runs it).  Before timing, both simulate
 1 s passively from the same state and must agree (MuJoCo's URDF import keeps no drive
-terms, so the arms are compared without drives).  Then, alternated and median of three:
+terms, so the arms are compared without drives).  Then, alternated and the median of :data:`ROUNDS`:
 
 * MuJoCo ``mj_step`` (passive);
-* ``Simulation.step`` passive RK4 (target ≤ 3× mj_step);
+* ``Simulation.step`` passive RK4, per step of ``step(500)`` (target ≤ 3× mj_step), and
+  one ``step()`` call on its own (which also writes the state to the RobotState);
 * ``Simulation.step`` RK4 + computed torque (target ≤ 1.2× our passive step);
 * ``BatchSimulation`` RK4 + computed torque at n_envs = 1000, per arm-step (target ≤ 1× mj_step).
 
@@ -40,6 +41,7 @@ STEPS = 500
 DT = 1e-3
 N_ENVS = 1000
 BATCH_STEPS = 5
+ROUNDS = 5  # alternated rounds; the median is reported
 
 
 def mujoco_model(robot: RobotParams) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -72,7 +74,7 @@ def per_call(fn: Callable[[], object], calls: int) -> float:
 
 
 def compare(name: str) -> None:
-    robot = without_drives(load_robot(name))
+    robot = without_drives(load_robot(name), limits=False)
     q0 = robot.q_home + 0.2
     print(f"{name}: |q_ours - q_mujoco| after 1 s passive = {agreement(robot, q0):.1e} rad")
     model, data = mujoco_model(robot)
@@ -81,11 +83,12 @@ def compare(name: str) -> None:
     ct.state.set_q_des(robot.q_home + 0.3)
     batch = BatchSimulation(robot, N_ENVS, controller="ct", integrator="rk4", dt=DT)
     batch.set_reference(q=robot.q_home + 0.3)
-    rows: dict[str, list[float]] = {"mj_step": [], "passive": [], "ct": [], "batch": []}
-    for _ in range(3):  # alternated, median of three
+    rows: dict[str, list[float]] = {"mj_step": [], "passive": [], "ct": [], "step()": [], "batch": []}
+    for _ in range(ROUNDS):  # alternated, median
         rows["mj_step"].append(per_call(lambda: mujoco.mj_step(model, data), STEPS))
-        rows["passive"].append(per_call(lambda: passive.step(), STEPS))
-        rows["ct"].append(per_call(lambda: ct.step(), STEPS))
+        rows["passive"].append(per_call(lambda: passive.step(STEPS), 1) / STEPS)
+        rows["ct"].append(per_call(lambda: ct.step(STEPS), 1) / STEPS)
+        rows["step()"].append(per_call(lambda: passive.step(), STEPS))
         rows["batch"].append(per_call(lambda: batch.step(), BATCH_STEPS) / N_ENVS)
         for sim in (passive, ct):
             sim.load_state()
@@ -94,6 +97,7 @@ def compare(name: str) -> None:
     print(f"  mj_step                          {mj * 1e6:7.1f} µs")
     print(f"  Simulation.step passive RK4      {med['passive'] * 1e6:7.1f} µs  {med['passive'] / mj:4.2f}× mj_step (≤ 3)")
     print(f"  Simulation.step RK4 + CT         {med['ct'] * 1e6:7.1f} µs  {med['ct'] / med['passive']:4.2f}× passive (≤ 1.2)")
+    print(f"  one Simulation.step() call       {med['step()'] * 1e6:7.1f} µs  (passive; writes the RobotState each call)")
     print(f"  BatchSimulation CT, {N_ENVS} envs  {med['batch'] * 1e6:7.2f} µs/arm-step  {med['batch'] / mj:4.2f}× mj_step (≤ 1)")
 
 

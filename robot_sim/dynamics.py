@@ -739,6 +739,47 @@ def inverse_dynamics(
     return tau[0] if single else tau
 
 
+def computed_torque(
+    robot: RobotParams,
+    q: ArrayLike,
+    qd: ArrayLike,
+    q_des: ArrayLike,
+    qd_des: ArrayLike,
+    qdd_des: ArrayLike,
+    kp: float | ArrayLike,
+    kd: float | ArrayLike,
+    gravity: ArrayLike = GRAVITY,
+) -> tuple[FloatArray, FloatArray]:
+    """(τ, q̈_ref): the inverse dynamics τ = ID(q, q̇, q̈_ref) [N·m or N] at the reference
+    acceleration q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) [rad/s² or m/s²], in one
+    call (computed torque's law).  Joint arrays (n,) or (N, n); ``kp`` [1/s²] and ``kd``
+    [1/s] numbers, or (N, 1) one per configuration.  ValueError as inverse_dynamics."""
+    if _backend == "compiled" and isinstance(kp, float) and isinstance(kd, float):  # one configuration: fast
+        model = _model(robot)
+        kernels, table = model.compiled()
+        tau, qdd_ref = np.empty(model.n), np.empty(model.n)
+        try:
+            if kernels.ct_vec(table, q, qd, q_des, qd_des, qdd_des, kp, kd, model.gravity_array(robot, gravity), tau, qdd_ref):
+                return tau, qdd_ref
+        except TypeError:  # not C-contiguous float64 vectors: the checked way below
+            pass
+    single, (Q, QD, QDES, QDDES, QDDDES) = _arguments(robot, q, qd=qd, q_des=q_des, qd_des=qd_des, qdd_des=qdd_des)
+    gains = [np.broadcast_to(np.asarray(g, dtype=float), (Q.shape[0], 1)) for g in (kp, kd)]
+    for name, g in zip(("kp", "kd"), gains):
+        if not np.isfinite(g).all():
+            raise ValueError(f"{name} must be finite, got {g!r}")
+    if _backend == "compiled":
+        model = _model(robot)
+        kernels, table = model.compiled()
+        tau, qdd_ref = np.empty(Q.shape), np.empty(Q.shape)
+        KP, KD = (np.ascontiguousarray(g[:, 0]) for g in gains)
+        kernels.ct_batch(table, Q, QD, QDES, QDDES, QDDDES, KP, KD, model.gravity_array(robot, gravity), tau, qdd_ref)
+    else:
+        qdd_ref = QDDDES + gains[0] * (QDES - Q) + gains[1] * (QDDES - QD)
+        tau = _rnea(robot, Q, QD, qdd_ref, gravity, None).T
+    return (tau[0], qdd_ref[0]) if single else (tau, qdd_ref)
+
+
 def gravity_torque(robot: RobotParams, q: ArrayLike, gravity: ArrayLike = GRAVITY) -> FloatArray:
     """g(q): joint torques [N·m or N] that hold the arm still against gravity, (n,) or (N, n)."""
     if _backend == "compiled":  # one configuration of a float64 vector: fast

@@ -405,6 +405,33 @@ def _finite(x):
     return True
 
 
+@njit(**_INLINE)
+def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
+    """Computed torque: q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) into ``qdd_ref``
+    (the operations and their order of NumPy's ``qdd_des + kp * (q_des - q) + kd * (qd_des - qd)``)
+    and τ = ID(q, q̇, q̈_ref) into ``tau``."""
+    for j in range(P.shape[0]):
+        qdd_ref[j] = (qdd_des[j] + kp * (q_des[j] - q[j])) + kd * (qd_des[j] - qd[j])
+    _geometry(P, modified, q, O, CS)
+    rnea_one(P, modified, qd, qdd_ref, g0, O[0], False, tau, O, CS, F, NM)
+
+
+@njit("b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1], f8, f8, f8[::1], f8[::1], f8[::1])", **_JIT)
+def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
+    """:func:`_ct_one` for one configuration; False (nothing computed) unless every vector
+    has n entries (g0 3) and the state and reference are finite."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    for x in (q, qd, q_des, qd_des, qdd_des, tau, qdd_ref):
+        if x.shape[0] != n:
+            return False
+    if g0.shape[0] != 3 or not (_finite(q) and _finite(qd) and _finite(q_des) and _finite(qd_des) and _finite(qdd_des)):
+        return False
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM)
+    return True
+
+
 # ------------------------------------------------------------------ batches
 
 
@@ -460,6 +487,19 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
         _geometry(P, modified, Q[i], O, CS)
         rnea_one(P, modified, QD[i], QDD[i], g0, FEXT[i if use_ext else 0], use_ext, TAU[i], O, CS, F, NM)
         finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDD[i])
+    return finite
+
+
+@njit(**_JIT)
+def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
+    """:func:`_ct_one` per configuration (gains KP, KD (N,)); finite inputs?"""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
+    finite = True
+    for i in range(Q.shape[0]):
+        _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, TAU[i], QDDREF[i], O, CS, F, NM)
+        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDES[i]) and _finite(QDDES[i]) and _finite(QDDDES[i])
     return finite
 
 

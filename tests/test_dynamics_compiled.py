@@ -66,6 +66,8 @@ def test_compiled_equals_reference_on_random_chains(seed, n, convention, drives)
         "single gravity_torque": lambda: dyn.gravity_torque(rob, Q[1]),
         "single mass_matrix": lambda: dyn.mass_matrix(rob, Q[2]),
         "other gravity": lambda: dyn.inverse_dynamics(rob, Q[3], QD[3], QDD[3], gravity=(1.0, -2.0, -9.0)),
+        "computed_torque": lambda: dyn.computed_torque(rob, Q[4], QD[4], Q[5], QD[5], QDD[5], 30.0, 11.0),
+        "batched computed_torque": lambda: dyn.computed_torque(rob, Q, QD, Q[::-1], QD[::-1], QDD, np.full((N, 1), 30.0), 11.0),
     }.items():
         _close(*_both(fn), what)
     # forward dynamics: the same accelerations, measured by the torques they need
@@ -77,6 +79,16 @@ def test_compiled_equals_reference_on_random_chains(seed, n, convention, drives)
         M = dyn.mass_matrix(rob, Q if compiled.ndim == 2 else Q[0])
         diff = np.einsum("...ij,...j->...i", M, compiled - reference)
         assert np.abs(diff).max() <= TOL * max(1.0, np.abs(QDD).max() * np.abs(M).max()), what
+
+
+def test_computed_torque_is_inverse_dynamics_at_the_reference_acceleration():
+    rob, rng = _chain(6, 5, "modified", True)
+    q, qd, q_des, qd_des, qdd_des = rng.normal(size=(5, 5))
+    tau, qdd_ref = dyn.computed_torque(rob, q, qd, q_des, qd_des, qdd_des, 25.0, 10.0)
+    assert np.array_equal(qdd_ref, qdd_des + 25.0 * (q_des - q) + 10.0 * (qd_des - qd))
+    assert np.array_equal(tau, dyn.inverse_dynamics(rob, q, qd, qdd_ref))
+    with pytest.raises(ValueError, match="q_des must be finite"):
+        dyn.computed_torque(rob, q, qd, np.full(5, np.inf), qd_des, qdd_des, 25.0, 10.0)
 
 
 def test_one_configuration_equals_its_row_of_a_batch_bit_for_bit():

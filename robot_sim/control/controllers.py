@@ -193,9 +193,8 @@ class ComputedTorque(Controller):
     def torque(
         self, q: FloatArray, qd: FloatArray, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray
     ) -> FloatArray:
-        qdd_ref = qdd_des + self.kp * (q_des - q) + self.kd * (qd_des - qd)
-        self._qdd_ref = qdd_ref
-        return dynamics.inverse_dynamics(self.robot, q, qd, qdd_ref)
+        tau, self._qdd_ref = dynamics.computed_torque(self.robot, q, qd, q_des, qd_des, qdd_des, self.kp, self.kd)
+        return tau
 
     def commanded_acceleration(self) -> FloatArray | None:
         """The reference acceleration of the last :meth:`torque` (exact on the model)."""
