@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.control.batch import BatchSimulation, batched_controller
-from robot_sim.control.controllers import Gains, control_gains
+from robot_sim.control.controllers import PHYSICAL_MODES, Gains, control_gains
 from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS
 from robot_sim.io.files import write_atomic
 from robot_sim.model.inertials import LinkInertials, _combine
@@ -52,7 +52,7 @@ FloatArray = NDArray[np.float64]
 
 METRICS = ("tracking_rms", "peak_effort", "settling_time", "limit_hits", "diverged")
 PARAMETERS = ("kp", "kd", "bandwidth", "damping", "q0", "q_des", "payload")
-MODES = ("pd", "pdg", "ct")
+MODES = tuple(m for m in PHYSICAL_MODES if m != "passive")  # the controlled modes
 #: A joint has settled when within this fraction of its step (and at least the floor).
 SETTLE_FRACTION = 0.02
 SETTLE_FLOOR = 1e-3  # rad or m
@@ -147,7 +147,7 @@ def with_payload(robot: RobotParams, mass: float) -> RobotParams:
     if mass == 0.0:
         return robot
     li = robot.inertials
-    tool = robot.endeff_tf.t()  # the tool origin in frame n
+    tool = robot.tool_tf.t()  # the tool origin in frame n
     m, c, inertia = _combine([(float(li.mass[-1]), li.com[-1], li.inertia[-1]), (float(mass), tool, np.zeros((3, 3)))])
     masses, coms, inertias = np.array(li.mass, dtype=float), np.array(li.com, dtype=float), np.array(li.inertia, dtype=float)
     masses[-1], coms[-1], inertias[-1] = m, c, inertia
