@@ -39,6 +39,7 @@ def planar(app: Any, tmp_path: Path) -> Any:
     path.write_text((ROOT / "robots" / "planar3.toml").read_text())
     win = open_window(app, "--robot", str(path), "--q", "10,20,30")
     yield win
+    win.edited = False  # tests that edit leave nothing to ask about at teardown
     win.close()
 
 

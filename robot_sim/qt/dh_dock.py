@@ -12,6 +12,7 @@ it is reloaded and ``robot_loaded(robot, True)`` asks the window to keep the joi
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,14 +42,18 @@ class DHTableDock(QtWidgets.QDockWidget):
     keep_q)`` after Open… (False) or a reload from disk (True), ``joint_selected(index or
     None)`` when the selected row changes, ``message(text)`` for the status bar,
     ``file_changed(path or None)`` when another file becomes the current one (Open…,
-    Save as…).
+    Save as…), ``message_void(text)`` when a message said earlier no longer holds (a
+    refused cell holds a valid value again), ``edit_closed()`` when a cell editor closes
+    (committed or cancelled).
     """
 
     robot_edited = QtCore.pyqtSignal(object)
     robot_loaded = QtCore.pyqtSignal(object, bool)
     joint_selected = QtCore.pyqtSignal(object)
     message = QtCore.pyqtSignal(str)
+    message_void = QtCore.pyqtSignal(str)
     file_changed = QtCore.pyqtSignal(object)
+    edit_closed = QtCore.pyqtSignal()
 
     def __init__(self, parent: QtWidgets.QWidget | None = None) -> None:
         super().__init__("DH parameters", parent)
@@ -58,6 +63,11 @@ class DHTableDock(QtWidgets.QDockWidget):
         self.path: Path | None = None
         self.text: str | None = None  # the file's text when last read or written: the template
         self._filling = False
+        self.refused: dict[tuple[int, int], str] = {}  # (row, column) -> "refused: reason"
+        # asked before Open… replaces the shown robot, with what is about to happen
+        # ("opening another robot"); the window asks about unsaved edits
+        self.may_drop: Callable[[str], bool] = lambda _doing: True
+        self.unsaved: Callable[[], bool] = lambda: False  # True: a reload from disk must not replace the robot
         panel = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(panel)
         layout.setContentsMargins(4, 2, 4, 2)
@@ -77,10 +87,10 @@ class DHTableDock(QtWidgets.QDockWidget):
         self.table.setHorizontalHeaderLabels(HEADERS)
         self.table.setSelectionBehavior(QtWidgets.QAbstractItemView.SelectRows)
         self.table.setSelectionMode(QtWidgets.QAbstractItemView.SingleSelection)
+        # editing starts by a double click or F2 only: any other key is the window's
+        # shortcut (route_keys), never text typed into a cell nobody opened
         self.table.setEditTriggers(
-            QtWidgets.QAbstractItemView.DoubleClicked
-            | QtWidgets.QAbstractItemView.EditKeyPressed
-            | QtWidgets.QAbstractItemView.AnyKeyPressed
+            QtWidgets.QAbstractItemView.DoubleClicked | QtWidgets.QAbstractItemView.EditKeyPressed
         )
         self.table.verticalHeader().setDefaultSectionSize(self.table.fontMetrics().height() + qs.DH_ROW_PADDING_PX)
         self.table.setSizeAdjustPolicy(QtWidgets.QAbstractScrollArea.AdjustToContents)
@@ -98,6 +108,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         self.open_button.clicked.connect(lambda _checked: self.open_dialog())
         self.save_button.clicked.connect(lambda _checked: self.save_dialog())
         self.table.itemChanged.connect(self.cell_changed)
+        self.table.itemDelegate().closeEditor.connect(lambda *_: self.edit_closed.emit())
         self.table.itemSelectionChanged.connect(self.selection_changed)
         self.watcher.fileChanged.connect(lambda _path: self.reload_timer.start())
         self.reload_timer.timeout.connect(self.reload)
@@ -120,7 +131,7 @@ class DHTableDock(QtWidgets.QDockWidget):
                 self.table.setItem(row, col, item)
         self._filling = False
         self.table.resizeColumnsToContents()
-        self.error_label.clear()
+        self._clear_refusals()
         self.convention_label.setText(_CONVENTION_TEXT[robot.convention])
         if selected is not None and selected < robot.n_dofs:
             self.table.selectRow(selected)
@@ -158,18 +169,43 @@ class DHTableDock(QtWidgets.QDockWidget):
         row, col = item.row(), item.column()
         column = COLUMNS[col]
         if item.text() == cell_text(self.robot, self.q, row, column):
+            self._accept_cell(item)  # typed back to the robot's value: nothing refused here now
             return
         try:
             edited = edit_cell(self.robot, row, column, item.text())
         except ValueError as exc:
-            self._filling = True
-            item.setBackground(QtGui.QColor(*qs.DH_INVALID_CELL_RGB))
-            item.setToolTip(f"refused: {exc}")
-            self._filling = False
-            self.error_label.setText(f"refused: {exc}")
-            self.message.emit(f"refused: {exc}")
+            self._refuse_cell(item, f"refused: {exc}")
             return
-        self.robot_edited.emit(edited)
+        self.robot_edited.emit(edited)  # the table is rebuilt for the new robot
+
+    def _refuse_cell(self, item: QtWidgets.QTableWidgetItem, reason: str) -> None:
+        """Tint ``item``, put ``reason`` in its tooltip, under the table and in the status bar."""
+        self._filling = True
+        item.setBackground(QtGui.QColor(*qs.DH_INVALID_CELL_RGB))
+        item.setToolTip(reason)
+        self._filling = False
+        self.refused[(item.row(), item.column())] = reason
+        self.error_label.setText(reason)
+        self.message.emit(reason)
+
+    def _accept_cell(self, item: QtWidgets.QTableWidgetItem) -> None:
+        """``item`` holds a valid value again: untint it and withdraw its refusal."""
+        reason = self.refused.pop((item.row(), item.column()), None)
+        if reason is None:
+            return
+        self._filling = True
+        item.setBackground(QtGui.QBrush())
+        item.setToolTip("")
+        self._filling = False
+        self.error_label.setText(next(iter(self.refused.values()), ""))  # another refused cell's reason, if any
+        self.message_void.emit(reason)
+
+    def _clear_refusals(self) -> None:
+        """A new table: no cell is refused (the status bar forgets the reasons too)."""
+        for reason in self.refused.values():
+            self.message_void.emit(reason)
+        self.refused.clear()
+        self.error_label.clear()
 
     @guarded
     def selection_changed(self) -> None:
@@ -216,7 +252,8 @@ class DHTableDock(QtWidgets.QDockWidget):
     @guarded
     def reload(self) -> None:
         """Reload the watched file after it changed on disk (ignored if its text is what
-        was last read or written; a file that fails to load is reported and skipped)."""
+        was last read or written; a file that fails to load is reported and skipped; with
+        unsaved edits shown they are kept and the status bar says so)."""
         path = self.path
         if path is None:
             return
@@ -230,20 +267,31 @@ class DHTableDock(QtWidgets.QDockWidget):
         except (RobotDefinitionError, OSError, UnicodeDecodeError) as exc:
             self.message.emit(f"{path} changed but was not reloaded: {exc}")
             return
+        if self.unsaved():
+            self.message.emit(f"{path} changed on disk; your unsaved edits are kept "
+                              "(Save as… writes them, Open… loads the file)")
+            return
         self.text = text
         self.robot_loaded.emit(robot, True)
         self.message.emit(f"reloaded {path}")
 
     @guarded
     def open_dialog(self) -> None:
+        if not self.may_drop("opening another robot"):
+            return
         start = str(self.path.parent) if self.path is not None else str(Path.cwd())
         path, _ = QtWidgets.QFileDialog.getOpenFileName(self, "Open robot file", start, _FILE_FILTER)
         if path:
             self.open_file(path)
 
     @guarded
-    def save_dialog(self) -> None:
+    def save_dialog(self) -> bool:
+        """Ask for a file name and save there; False if cancelled or not written."""
         start = str(self.path) if self.path is not None else str(Path.cwd() / "robot.toml")
         path, _ = QtWidgets.QFileDialog.getSaveFileName(self, "Save robot file as", start, _FILE_FILTER)
-        if path:
-            self.save_to(path)
+        return bool(path) and self.save_to(path)
+
+    def save(self) -> bool:
+        """Save the shown robot to its current file (comments kept), or ask for a name
+        when it has none; returns whether it was written."""
+        return self.save_to(self.path) if self.path is not None else bool(self.save_dialog())

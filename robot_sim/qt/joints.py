@@ -5,6 +5,12 @@ Values are shown in degrees (revolute) and metres (prismatic); the signals carry
 values (radians, metres).  The panel holds no state of its own beyond the robot it was
 built for: :meth:`JointPanel.show_q` puts the session's q on the widgets without echoing
 signals back.
+
+Keys and the wheel: a box is being edited while it has the keyboard focus (a click in
+its text); Enter commits, Esc restores the shown value, and either, like a click on its
+arrows, hands the keyboard back (``edit_finished``) so single-key shortcuts never type
+into it.  The wheel over a slider or an unfocused box scrolls the panel instead of
+moving a joint.
 """
 from __future__ import annotations
 
@@ -13,12 +19,51 @@ import math
 
 import numpy as np
 from numpy.typing import NDArray
-from PyQt5 import QtCore, QtWidgets
+from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
 from robot_sim.qt import settings as qs
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.viewer.session import display_range, display_scale, wrap_display
+
+
+class JointBox(QtWidgets.QDoubleSpinBox):
+    """A joint's typed value: ``finished`` after Enter, Esc (which restores the value
+    shown before the edit) or a click on its arrows."""
+
+    finished = QtCore.pyqtSignal()
+
+    def keyPressEvent(self, event: QtGui.QKeyEvent) -> None:
+        if event.key() == Qt.Key_Escape:
+            self.blockSignals(True)
+            self.setValue(self.value())  # the typed text goes: value() is still the one shown before
+            self.blockSignals(False)
+            self.finished.emit()
+            return
+        super().keyPressEvent(event)
+        if event.key() in (Qt.Key_Return, Qt.Key_Enter):
+            self.finished.emit()
+
+    def mouseReleaseEvent(self, event: QtGui.QMouseEvent) -> None:
+        super().mouseReleaseEvent(event)
+        option = QtWidgets.QStyleOptionSpinBox()
+        self.initStyleOption(option)
+        hit = self.style().hitTestComplexControl(QtWidgets.QStyle.CC_SpinBox, option, event.pos(), self)
+        if hit in (QtWidgets.QStyle.SC_SpinBoxUp, QtWidgets.QStyle.SC_SpinBoxDown):
+            self.finished.emit()  # a step, not typing: the keys go back to the shortcuts
+
+    def wheelEvent(self, event: QtGui.QWheelEvent) -> None:
+        if self.hasFocus():
+            super().wheelEvent(event)
+        else:
+            event.ignore()  # to the scroll area around the panel
+
+
+class JointSlider(QtWidgets.QSlider):
+    """A joint's slider: dragged or clicked, never turned by the wheel (that scrolls)."""
+
+    def wheelEvent(self, event: QtGui.QWheelEvent) -> None:
+        event.ignore()
 
 
 class JointRow:
@@ -31,14 +76,14 @@ class JointRow:
         unit = qs.JOINT_UNIT_PRISMATIC if prismatic else qs.JOINT_UNIT_REVOLUTE
         limited = math.isfinite(robot.q_min[joint]) or math.isfinite(robot.q_max[joint])
         self.name = QtWidgets.QLabel(f"joint {joint + 1}" + ("" if limited else qs.JOINT_UNLIMITED_MARK))
-        self.box = QtWidgets.QDoubleSpinBox()
+        self.box = JointBox()
         self.box.setDecimals(qs.JOINT_BOX_DECIMALS_PRISMATIC if prismatic else qs.JOINT_BOX_DECIMALS_REVOLUTE)
         self.box.setRange(lo, hi)
         self.box.setSingleStep(1.0 / self.ticks * 10)
         self.box.setSuffix(unit)
         self.box.setKeyboardTracking(False)  # valueChanged on Enter or focus out, not per digit
         self.box.setToolTip(f"type a value in [{lo:g}, {hi:g}]{unit} and press Enter")
-        self.slider = QtWidgets.QSlider(Qt.Horizontal)
+        self.slider = JointSlider(Qt.Horizontal)
         self.slider.setFocusPolicy(Qt.NoFocus)
         self.slider.setRange(math.floor(lo * self.ticks), math.ceil(hi * self.ticks))
         self.low = QtWidgets.QLabel(f"{lo:g}{unit}")
@@ -67,11 +112,13 @@ class JointPanel(QtWidgets.QWidget):
     """Sliders and boxes for every joint, Home and Zero.
 
     ``joint_moved(joint, value)`` carries one joint's new value (rad or m) from a slider
-    or a box; ``q_requested(q)`` a whole joint vector (n,) from Home or Zero.
+    or a box; ``q_requested(q)`` a whole joint vector (n,) from Home or Zero;
+    ``edit_finished()`` when a box hands the keyboard back.
     """
 
     joint_moved = QtCore.pyqtSignal(int, float)
     q_requested = QtCore.pyqtSignal(object)
+    edit_finished = QtCore.pyqtSignal()
 
     def __init__(self, parent: QtWidgets.QWidget | None = None) -> None:
         super().__init__(parent)
@@ -109,6 +156,7 @@ class JointPanel(QtWidgets.QWidget):
         for i, row in enumerate(self.rows):
             row.slider.valueChanged.connect(functools.partial(self._slider_moved, i))
             row.box.valueChanged.connect(functools.partial(self._box_changed, i))
+            row.box.finished.connect(self.edit_finished.emit)
 
     def show_q(self, q: NDArray[np.float64]) -> None:
         """Show joint values ``q`` (SI, (n,)) on the rows."""

@@ -45,6 +45,7 @@ from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.io.robot_file import available_robots, resolve_robot_path
 from robot_sim.viewer.trail import Trail
+from robot_sim.qt.shortcuts import ShortcutFilter
 from robot_sim.viewer.session import ViewerSession, compute_workspace
 from robot_sim.viewer.workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
@@ -211,6 +212,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.build_dh_dock()
         self.actions = self.build_actions()
         self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in qs.KEY_BINDINGS}
+        self.shortcuts = ShortcutFilter(self, self.is_bound, self.keyPressEvent)
+        self.shortcuts.watch(self.dh_dock.table)
         self.resize(*options.size)
         self.robot_changed()
         if options.workspace:
@@ -235,7 +238,8 @@ class MainWindow(QtWidgets.QMainWindow):
         self.robot_combo.addItems(names)
         if self.options.robot_arg not in names:
             self.robot_combo.insertItem(0, self.options.robot_arg)
-        self.robot_combo.setCurrentText(self.options.robot_arg)
+        self.robot_choice = self.options.robot_arg  # what the chooser shows, kept on Cancel
+        self.robot_combo.setCurrentText(self.robot_choice)
         self.robot_combo.currentTextChanged.connect(self.choose_robot)
         layout.addWidget(self.robot_combo)
         self.motion_panel = MotionPanel()
@@ -244,6 +248,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.joints = JointPanel()
         self.joints.joint_moved.connect(self.joint_moved)
         self.joints.q_requested.connect(self.set_q)
+        self.joints.edit_finished.connect(self.view.setFocus)  # Enter / Esc in a box: keys are shortcuts again
         scroll = QtWidgets.QScrollArea()
         scroll.setWidgetResizable(True)
         scroll.setWidget(self.joints)
@@ -269,10 +274,14 @@ class MainWindow(QtWidgets.QMainWindow):
     def build_dh_dock(self) -> None:
         self.dh_dock = DHTableDock(self)
         self.dh_dock.setFeatures(QtWidgets.QDockWidget.DockWidgetMovable | QtWidgets.QDockWidget.DockWidgetFloatable)
+        self.dh_dock.may_drop = self.confirm_unsaved  # Open… asks before dropping unsaved edits
+        self.dh_dock.unsaved = lambda: self.edited  # ... and a reload from disk keeps them
         self.dh_dock.robot_edited.connect(self.robot_edited)
         self.dh_dock.robot_loaded.connect(self.robot_loaded)
         self.dh_dock.joint_selected.connect(self.annotate)
         self.dh_dock.message.connect(self.message)
+        self.dh_dock.message_void.connect(self.withdraw_message)
+        self.dh_dock.edit_closed.connect(self.view.setFocus)  # a cell committed or cancelled: keys are shortcuts again
         self.dh_dock.file_changed.connect(self.file_changed)
         self.addDockWidget(Qt.BottomDockWidgetArea, self.dh_dock)
         try:
@@ -366,22 +375,69 @@ class MainWindow(QtWidgets.QMainWindow):
         self.message_label.setToolTip(text)
         self.message_timer.start(qs.STATUS_MESSAGE_MS if duration_ms is None else duration_ms)
 
+    def withdraw_message(self, text: str) -> None:
+        """``text`` no longer holds (a refused cell is valid again): clear it if shown."""
+        if self.message_label.text() == text:
+            self.message_label.clear()
+            self.message_label.setToolTip("")
+
     # ---- robots: chooser, DH edits, files ----
     @guarded
     def choose_robot(self, name: str) -> None:
-        """Switch to robot ``name`` (shipped name or file) without restarting."""
+        """Switch to robot ``name`` (shipped name or file) without restarting; with unsaved
+        edits only after Save or Discard (Cancel puts the chooser back)."""
+        if not self.confirm_unsaved(f"switching to {name}"):
+            self.show_robot_choice()
+            return
         try:
             path = resolve_robot_path(name)
         except RobotDefinitionError as exc:
             self.message(str(exc))
+            self.show_robot_choice()
             return
-        self.dh_dock.open_file(path)
+        if self.dh_dock.open_file(path):
+            self.robot_choice = name
+        self.show_robot_choice()
         self.view.setFocus()
+
+    def show_robot_choice(self) -> None:
+        """The chooser names the robot shown (without switching)."""
+        self.robot_combo.blockSignals(True)
+        self.robot_combo.setCurrentText(self.robot_choice)
+        self.robot_combo.blockSignals(False)
+
+    def confirm_unsaved(self, doing: str) -> bool:
+        """True if the shown robot may be dropped for ``doing`` (e.g. "closing"): it has
+        no unsaved edits, or the user saved or discarded them; False if they cancelled
+        (or the save failed, which the status bar says)."""
+        if not self.edited:
+            return True
+        box = QtWidgets.QMessageBox
+        answer = box.question(
+            self, APP_NAME, f"{self.session.robot.name} has unsaved edits. Save them before {doing}?",
+            box.Save | box.Discard | box.Cancel, box.Save,
+        )
+        if answer == box.Save:
+            return self.dh_dock.save()
+        return answer == box.Discard
+
+    @guarded
+    def closeEvent(self, event: QtGui.QCloseEvent) -> None:
+        """Closing (Esc, the title bar): with unsaved edits only after Save or Discard."""
+        if self.confirm_unsaved("closing"):
+            event.accept()
+        else:
+            event.ignore()
 
     @guarded
     def robot_loaded(self, robot: RobotParams, keep_q: bool) -> None:
         """A robot from Open…, the chooser or a reload of the file: keep the joint values
-        (and the camera) on a reload when the number of joints is unchanged."""
+        (and the camera) on a reload when the number of joints is unchanged.  A reload
+        while the shown robot has unsaved edits keeps the edits and says so."""
+        if keep_q and self.edited:
+            self.message(f"{self.dh_dock.path} changed on disk; your unsaved edits are kept "
+                         "(Save as… writes them, Open… loads the file)")
+            return
         self.edited = False
         self.replace_robot(robot, keep_q and robot.n_dofs == self.session.robot.n_dofs)
 
@@ -486,6 +542,10 @@ class MainWindow(QtWidgets.QMainWindow):
         self.view.update()
 
     # ---- keys: one handler per KEY_BINDINGS action, called with the row's argument ----
+    def is_bound(self, event: QtGui.QKeyEvent) -> bool:
+        """True if ``event``'s key and modifiers are a KEY_BINDINGS shortcut."""
+        return (int(event.key()), int(event.modifiers()) & _MODIFIER_MASK) in self.key_table
+
     @guarded
     def keyPressEvent(self, event: QtGui.QKeyEvent) -> None:
         binding = self.key_table.get((int(event.key()), int(event.modifiers()) & _MODIFIER_MASK))
