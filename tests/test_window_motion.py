@@ -44,14 +44,14 @@ def _pixel(win: Any, point: np.ndarray) -> QPoint:
 def test_shift_m_cycles_the_motion_modes_and_the_help_lists_it(app: QApplication, closing: list[Any]) -> None:
     win = _open(app, closing)
     assert win.motion_panel.combo.currentText() == "kinematic" and not win.session.physical
-    assert not win.motion_panel.effort_box.isVisible()
+    assert not any(row.effort.isVisible() for row in win.joints.rows)
     seen = []
     for _ in MOTION_MODES:
         press(app, Qt.Key_M, Qt.ShiftModifier)
         seen.append(win.motion_panel.combo.currentData())
     assert seen == [*MOTION_MODES[1:], MOTION_MODES[0]]
     press(app, Qt.Key_M, Qt.ShiftModifier)
-    assert win.session.motion.mode == "passive" and win.motion_panel.effort_box.isVisible()
+    assert win.session.motion.mode == "passive" and all(row.effort.isVisible() for row in win.joints.rows)
     assert win.motion_panel.combo.currentText() == MOTION_LABELS["passive"]
     assert any(line.startswith("Shift+M ") and "motion mode" in line for line in help_lines())
 
@@ -100,7 +100,7 @@ def test_shift_drag_pulls_the_endeffector_and_draws_the_spring(app: QApplication
     pull = np.array(gd.PULL_COLOR[:3]) * 255
     assert np.any(np.abs(patch - pull).max(axis=-1) < 60)
     # the effort bars show the joints working against the spring
-    assert any(bar.value() != 0 for bar in win.motion_panel.bars)
+    assert np.any(win.joints.effort_fractions() != 0)
     QTest.mouseRelease(win.view, Qt.LeftButton, Qt.ShiftModifier, start + QPoint(80, 0))
     assert win.session.motion.pull_point is None
     wait_until(lambda: np.linalg.norm(win.session.kin.endeff_tf.t() - ee0) < 2e-3, limit_ms=20000)
@@ -111,7 +111,7 @@ def test_a_joint_hitting_its_limit_flashes_and_says_so(app: QApplication, closin
     # humanoid7's elbow at -115 deg, 5 deg from its limit: a set point of -130 deg (past
     # the limit, as a program could set it) drives it into the stop
     win = _open(app, closing, "--robot", "humanoid7", "--q", "0,30,0,-115,0,45,0", "--motion", "pdg")
-    label = win.motion_panel.labels[3]
+    label = win.joints.rows[3].name
     q_des = win.session.state.q_des()
     q_des[3] = np.radians(-130.0)
     win.session.set_q(q_des)

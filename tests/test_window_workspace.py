@@ -34,8 +34,9 @@ def app() -> QApplication:
 
 
 def open_window(*args: str) -> Any:
-    config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "800x600", *args]))
+    config = simulator.config_from_args(simulator.build_parser().parse_args(list(args)))
     win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    win.resize(800, 600)
     win.show()
     win.view.setFocus()
     assert QTest.qWaitForWindowExposed(win)

@@ -34,8 +34,9 @@ def raiser(*args, **kwargs):
 
 def main(case: str) -> None:
     app = QApplication(["probe"])
-    config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "640x480"]))
+    config = simulator.config_from_args(simulator.build_parser().parse_args([]))
     win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    win.resize(640, 480)
     win.show()
     QTest.qWaitForWindowExposed(win)
     app.processEvents()

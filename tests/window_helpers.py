@@ -34,9 +34,11 @@ def app() -> QApplication:
     return QApplication.instance() or QApplication(["robot-sim-test"])
 
 
-def open_window(app: QApplication, *args: str) -> Any:
-    config = simulator.config_from_args(simulator.build_parser().parse_args(["--size", "900x640", *args]))
+def open_window(app: QApplication, *args: str, size: tuple[int, int] = (900, 640)) -> Any:
+    """The main window for command-line ``args``, ``size`` pixels, shown and focused."""
+    config = simulator.config_from_args(simulator.build_parser().parse_args(list(args)))
     window = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    window.resize(*size)
     window.show()
     window.activateWindow()
     window.view.setFocus()

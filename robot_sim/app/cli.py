@@ -102,7 +102,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--export-toml", metavar="FILE.toml", help="write the robot as a robot file and exit")
     parser.add_argument("--q", metavar="v1,v2,...",
                         help="start joint values: degrees for revolute, metres for prismatic joints")
-    parser.add_argument("--size", default=f"{w}x{h}", metavar="WxH", help=f"picture size in pixels (default: {w}x{h})")
+    parser.add_argument("--size", default=f"{w}x{h}", metavar="WxH", help=f"size of --screenshot and --record pictures in pixels (default: {w}x{h}); "
+                             "the window opens at 1280x800 or the screen's size")
     parser.add_argument("--screenshot", metavar="FILE.png",
                         help="render one frame offscreen (OSMesa) to FILE.png and exit; needs no display")
     parser.add_argument("--frames", metavar="all|none|0,2,E",
@@ -430,7 +431,7 @@ def window_options(config: Config) -> "WindowOptions":
     """How the window opens for ``config`` (imports Qt: call only when a window opens)."""
     from robot_sim.qt.window import WindowOptions
 
-    return WindowOptions(robot_arg=config.robot_arg, size=config.size, workspace=config.workspace,
+    return WindowOptions(robot_arg=config.robot_arg, workspace=config.workspace,
                          circle_demo=config.demo == "circle", message=config.pick_report,
                          gains=dict(config.gains))
 

@@ -24,6 +24,7 @@ from robot_sim.qt.guard import guarded
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable, variable_column
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.io.robot_file import load_robot
+from robot_sim.viewer.session import display_range, display_scale
 from robot_sim.io.files import write_atomic
 from robot_sim.io.robot_writer import save_robot
 from robot_sim.io.urdf_out import to_urdf
@@ -129,12 +130,26 @@ class DHTableDock(QtWidgets.QDockWidget):
                     item.setBackground(QtGui.QColor(*qs.DH_VARIABLE_CELL_RGB))
                     item.setToolTip(f"joint variable q{row + 1}: move it with the joint slider or box")
                 self.table.setItem(row, col, item)
+        self._size_columns()
         self._filling = False
-        self.table.resizeColumnsToContents()
         self._clear_refusals()
         self.convention_label.setText(_CONVENTION_TEXT[robot.convention])
         if selected is not None and selected < robot.n_dofs:
             self.table.selectRow(selected)
+
+    def _size_columns(self) -> None:
+        """Columns as wide as their texts, the joint-variable cells' at their widest: each
+        is measured holding the value at the end of the joint's range that reads longer,
+        so moving a joint never elides its θ or d ("-112.72 …")."""
+        robot = self.robot
+        lo, hi = (np.asarray(v) / display_scale(robot) for v in display_range(robot))  # the sliders' range, SI
+        for row in range(robot.n_dofs):
+            column = variable_column(robot, row)
+            texts = [cell_text(robot, np.where(np.arange(robot.n_dofs) == row, end, self.q), row, column)
+                     for end in (lo[row], hi[row])]
+            self.table.item(row, COLUMNS.index(column)).setText(max(texts, key=len))
+        self.table.resizeColumnsToContents()
+        self.show_q(self.q)
 
     def show_q(self, q: NDArray[np.float64]) -> None:
         """Update the joint-variable cells for joint values ``q`` (SI)."""

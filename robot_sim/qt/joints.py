@@ -1,10 +1,13 @@
-"""The joint panel of the window: per joint a slider with its limits written at its ends
-and a box to type the value, plus Home and Zero buttons.
+"""The joint panel of the window: per joint a slider with its limits written at its ends,
+a box to type the value and, in the physical motion modes, a bar of the joint's effort
+beside its name, plus Home and Zero buttons.
 
 Values are shown in degrees (revolute) and metres (prismatic); the signals carry SI
 values (radians, metres).  The panel holds no state of its own beyond the robot it was
 built for: :meth:`JointPanel.show_q` puts the session's q on the widgets without echoing
-signals back.
+signals back.  Effort bars show each joint's applied effort as a fraction of its effort
+limit (motion.Motion's ``effort_scale`` for a joint without one), red while the drive
+saturates; a joint's name flashes after it hits a joint limit.
 
 Keys and the wheel: a box is being edited while it has the keyboard focus (a click in
 its text); Enter commits, Esc restores the shown value, and either, like a click on its
@@ -16,6 +19,8 @@ from __future__ import annotations
 
 import functools
 import math
+import time
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -76,6 +81,16 @@ class JointRow:
         unit = qs.JOINT_UNIT_PRISMATIC if prismatic else qs.JOINT_UNIT_REVOLUTE
         limited = math.isfinite(robot.q_min[joint]) or math.isfinite(robot.q_max[joint])
         self.name = QtWidgets.QLabel(f"joint {joint + 1}" + ("" if limited else qs.JOINT_UNLIMITED_MARK))
+        self.effort = QtWidgets.QProgressBar()
+        self.effort.setRange(0, qs.EFFORT_BAR_STEPS)
+        self.effort.setFixedHeight(qs.EFFORT_BAR_HEIGHT_PX)
+        self.effort.setToolTip(f"joint {joint + 1}'s effort, percent of its effort limit")
+        self.effort.hide()
+        self.head = QtWidgets.QWidget()  # the name and, in physical modes, the effort bar
+        head = QtWidgets.QHBoxLayout(self.head)
+        head.setContentsMargins(0, 0, 0, 0)
+        head.addWidget(self.name)
+        head.addWidget(self.effort, 1)
         self.box = JointBox()
         self.box.setDecimals(qs.JOINT_BOX_DECIMALS_PRISMATIC if prismatic else qs.JOINT_BOX_DECIMALS_REVOLUTE)
         self.box.setRange(lo, hi)
@@ -91,14 +106,14 @@ class JointRow:
         for label in (self.low, self.high):
             label.setStyleSheet(qs.JOINT_LIMIT_LABEL_STYLE)
         row = 2 * joint
-        layout.addWidget(self.name, row, 0, 1, 2)
+        layout.addWidget(self.head, row, 0, 1, 2)
         layout.addWidget(self.box, row, 2)
         layout.addWidget(self.low, row + 1, 0)
         layout.addWidget(self.slider, row + 1, 1)
         layout.addWidget(self.high, row + 1, 2, Qt.AlignLeft)
 
     def widgets(self) -> tuple[QtWidgets.QWidget, ...]:
-        return self.name, self.box, self.slider, self.low, self.high
+        return self.head, self.box, self.slider, self.low, self.high
 
     def show_value(self, value: float) -> None:
         """Put ``value`` (display units) on the box and the slider without signals."""
@@ -124,6 +139,7 @@ class JointPanel(QtWidgets.QWidget):
         super().__init__(parent)
         self.robot: RobotParams | None = None
         self.rows: list[JointRow] = []
+        self.flash_until: dict[int, float] = {}  # joint -> monotonic time its flash ends
         outer = QtWidgets.QVBoxLayout(self)
         outer.setContentsMargins(0, 0, 0, 0)
         self.grid = QtWidgets.QGridLayout()
@@ -152,6 +168,7 @@ class JointPanel(QtWidgets.QWidget):
                 self.grid.removeWidget(widget)
                 widget.deleteLater()
         self.robot = robot
+        self.flash_until = {}
         self.rows = [JointRow(robot, i, self.grid) for i in range(robot.n_dofs)]
         for i, row in enumerate(self.rows):
             row.slider.valueChanged.connect(functools.partial(self._slider_moved, i))
@@ -171,3 +188,40 @@ class JointPanel(QtWidgets.QWidget):
 
     def _emit(self, joint: int, display_value: float) -> None:
         self.joint_moved.emit(joint, display_value / float(display_scale(self.robot)[joint]))
+
+    # ---- effort bars (physical motion modes) ----
+    def show_efforts(self, shown: bool) -> None:
+        """Show the effort bars (physical modes) or hide them (kinematic)."""
+        for row in self.rows:
+            row.effort.setVisible(shown)
+
+    def flash(self, joint: int) -> None:
+        """Flash joint ``joint``'s name (it hit a limit)."""
+        self.flash_until[joint] = time.monotonic() + qs.LIMIT_FLASH_MS / 1000.0
+
+    def sync_efforts(self, motion: Any | None) -> None:
+        """Bars from ``motion`` (a motion.Motion, or None in kinematic mode) and flashes."""
+        now = time.monotonic()
+        for i, row in enumerate(self.rows):
+            flashing = self.flash_until.get(i, 0.0) > now
+            _restyle(row.name, f"color: {qs.LIMIT_FLASH_COLOR}; font-weight: bold" if flashing else "")
+        if motion is None or not motion.physical:
+            return
+        fraction = motion.effort_fraction()
+        saturated = motion.sim.saturated
+        for i, row in enumerate(self.rows):
+            row.effort.setValue(round(min(abs(fraction[i]), 1.0) * qs.EFFORT_BAR_STEPS))
+            row.effort.setFormat(qs.EFFORT_BAR_FORMAT.format(percent=100.0 * fraction[i]))
+            color = qs.EFFORT_BAR_SATURATED_COLOR if saturated[i] else qs.EFFORT_BAR_COLOR
+            _restyle(row.effort, f"QProgressBar::chunk {{ background: {color}; }}")
+
+    def effort_fractions(self) -> NDArray[np.float64]:
+        """The bars' values (n,) as fractions of the effort limits (for tests and screenshots)."""
+        return np.array([row.effort.value() / qs.EFFORT_BAR_STEPS for row in self.rows])
+
+
+def _restyle(widget: QtWidgets.QWidget, style: str) -> None:
+    """Set ``style`` only when it changes: Qt re-polishes a widget on every setStyleSheet,
+    about 0.2 ms a tick for seven joints."""
+    if widget.styleSheet() != style:
+        widget.setStyleSheet(style)

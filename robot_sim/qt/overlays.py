@@ -40,10 +40,10 @@ def help_lines() -> list[str]:
 
 
 class HelpOverlay(QtWidgets.QScrollArea):
-    """The key and mouse bindings over the whole window, on a translucent dark panel.
+    """The key and mouse bindings over the 3D view, on a translucent dark panel.
 
     The rows are laid out in as many (keys, description) column pairs as fit the width
-    (up to ``HELP_MAX_COLUMNS``); what does not fit the height scrolls, so the whole list
+    (up to ``HELP_MAX_COLUMNS``); what does not fit the view scrolls, so the whole list
     is readable in any window from 640×480 up.  A click or Esc (handled by the window)
     closes it.
     """
@@ -53,7 +53,7 @@ class HelpOverlay(QtWidgets.QScrollArea):
         self.setFocusPolicy(Qt.NoFocus)
         self.setFrameShape(QtWidgets.QFrame.NoFrame)
         self.setWidgetResizable(True)
-        self.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarAsNeeded)  # a view narrower than one column
         self.setStyleSheet(
             "QScrollArea {background: transparent;}"
             " QLabel {color: rgb(%d, %d, %d);" % qs.HELP_TEXT_RGB
@@ -72,7 +72,7 @@ class HelpOverlay(QtWidgets.QScrollArea):
         self.hide()
 
     def fit(self, area: QtCore.QRect) -> None:
-        """Lay the rows out for ``area`` (the window's client rectangle) and take its
+        """Lay the rows out for ``area`` (the 3D view's rectangle) and take its
         top-left part: as much as the text needs, scrolling what is taller than ``area``."""
         scrollbar = self.verticalScrollBar().sizeHint().width()
         for columns in range(qs.HELP_MAX_COLUMNS, 0, -1):  # the most column pairs that fit
@@ -82,7 +82,8 @@ class HelpOverlay(QtWidgets.QScrollArea):
                 break
         needed = self.label.sizeHint()
         width = min(area.width(), needed.width() + scrollbar)  # room for the bar if it shows
-        self.setGeometry(area.left(), area.top(), width, min(area.height(), needed.height()))
+        height = needed.height() + (scrollbar if width < needed.width() + scrollbar else 0)  # and the sideways one
+        self.setGeometry(area.left(), area.top(), width, min(area.height(), height))
 
     @staticmethod
     def table_html(columns: int) -> str:

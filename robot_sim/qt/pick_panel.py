@@ -15,6 +15,10 @@ from robot_sim.qt import settings as qs
 from robot_sim.planning.scaling import Trajectory
 
 
+#: The timeline slider is never narrower than this (it shrank to a lone handle).
+TIMELINE_MIN_WIDTH_PX = 200
+
+
 class PlotDock(QtWidgets.QDockWidget):
     """One plot per row of ``PLOT_ROWS`` (q, qd, qdd, and the joint effort τ of a simulated
     run) under a legend row of the joint colours, one curve per joint, x = time [s], and a
@@ -45,6 +49,7 @@ class PlotDock(QtWidgets.QDockWidget):
             plot.setLabel("bottom", "time", units="s")
         self.plots["effort"].setVisible(False)
         self.curves: dict[str, list[pg.PlotDataItem]] = {key: [] for key in self.plots}
+        self.graphics.setFocusPolicy(Qt.NoFocus)  # keys stay with the GL view
         self.setWidget(self.graphics)
         self.setMinimumHeight(qs.PLOT_DOCK_MIN_HEIGHT)
 
@@ -90,6 +95,7 @@ class PickPanel(QtWidgets.QDockWidget):
         self.play = QtWidgets.QPushButton(qs.PICK_PLAY_TEXT)
         self.play.clicked.connect(lambda: toggle())
         self.slider = QtWidgets.QSlider(Qt.Horizontal)
+        self.slider.setMinimumWidth(TIMELINE_MIN_WIDTH_PX)
         self.slider.valueChanged.connect(lambda ticks: seek(ticks / qs.PICK_SLIDER_TICKS_PER_S))
         self.speed = QtWidgets.QComboBox()
         self.speed.addItems([qs.PICK_SPEED_FORMAT.format(speed=s) for s in qs.PICK_SPEEDS])

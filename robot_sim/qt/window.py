@@ -49,6 +49,10 @@ from robot_sim.qt.shortcuts import ShortcutFilter
 from robot_sim.viewer.session import ViewerSession, compute_workspace
 from robot_sim.viewer.workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
+#: The window's size when it opens, shrunk to the screen's free area if that is smaller
+#: (``--size`` is the size of pictures: --screenshot, --record).
+WINDOW_SIZE = (1280, 800)
+
 _MODIFIER_FLAGS = {"Shift": Qt.ShiftModifier, "Ctrl": Qt.ControlModifier, "Alt": Qt.AltModifier}
 _MODIFIER_MASK = int(functools.reduce(lambda a, b: a | b, _MODIFIER_FLAGS.values()))
 
@@ -66,16 +70,21 @@ APP_NAME = "robot-sim"
 @dataclass(frozen=True)
 class WindowOptions:
     """How the window opens around its session: the robot chooser's entry (a shipped name or a
-    file path, as given), the window size in pixels, the workspace cloud's point count (0: off),
+    file path, as given), the workspace cloud's point count (0: off),
     whether the circle demo runs, a first status message, and the gain overrides the motion
     chooser keeps (``bandwidth``, ``damping``)."""
 
     robot_arg: str
-    size: tuple[int, int] = vs.WINDOW_DEFAULT_SIZE
     workspace: int = 0
     circle_demo: bool = False
     message: str | None = None
     gains: dict[str, Any] = field(default_factory=dict)
+
+
+def opening_size() -> tuple[int, int]:
+    """WINDOW_SIZE, no larger than the primary screen's available area (pixels)."""
+    free = QtWidgets.QApplication.primaryScreen().availableGeometry()
+    return min(WINDOW_SIZE[0], free.width()), min(WINDOW_SIZE[1], free.height())
 
 
 def run_window(session: ViewerSession, options: WindowOptions) -> int:
@@ -86,6 +95,25 @@ def run_window(session: ViewerSession, options: WindowOptions) -> int:
     main_window.show()
     main_window.view.setFocus()
     return app.exec_()
+
+
+class ColumnScroll(QtWidgets.QScrollArea):
+    """A vertical scroll area never narrower than its content plus the scroll bar: its
+    column scrolls up and down, and nothing is cut off on the right."""
+
+    def setWidget(self, widget: QtWidgets.QWidget) -> None:  # noqa: N802 - Qt's name
+        super().setWidget(widget)
+        widget.installEventFilter(self)  # its layout changing changes this minimum
+
+    def eventFilter(self, obj: QtCore.QObject, event: QtCore.QEvent) -> bool:  # noqa: N802 - Qt's name
+        if obj is self.widget() and event.type() == QtCore.QEvent.LayoutRequest:
+            self.updateGeometry()
+        return super().eventFilter(obj, event)
+
+    def minimumSizeHint(self) -> QtCore.QSize:  # noqa: N802 - Qt's name
+        content = self.widget().minimumSizeHint() if self.widget() is not None else QtCore.QSize(0, 0)
+        width = content.width() + self.verticalScrollBar().sizeHint().width() + 2 * self.frameWidth()
+        return QtCore.QSize(width, super().minimumSizeHint().height())
 
 
 class GLView(QtWidgets.QOpenGLWidget):
@@ -148,6 +176,8 @@ class GLView(QtWidgets.QOpenGLWidget):
     def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
         super().resizeEvent(event)
         self.info.resize(self.size())
+        if self.window_.help.isVisible():
+            self.window_.help.fit(self.rect())
 
     @guarded
     def mousePressEvent(self, event: QtGui.QMouseEvent) -> None:
@@ -196,7 +226,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.edited = False  # the shown robot differs from its file
         self.view = GLView(self)
         self.setCentralWidget(self.view)
-        self.help = HelpOverlay(self)
+        self.help = HelpOverlay(self.view)  # over the 3D view only, never over the docks
         self.timer = QtCore.QTimer(self)
         self.timer.setInterval(qs.ANIM_INTERVAL_MS)
         self.timer.timeout.connect(self.tick)
@@ -214,7 +244,7 @@ class MainWindow(QtWidgets.QMainWindow):
         self.key_table = {key_of(key, mods): (action, arg) for key, mods, action, arg, _ in qs.KEY_BINDINGS}
         self.shortcuts = ShortcutFilter(self, self.is_bound, self.keyPressEvent)
         self.shortcuts.watch(self.dh_dock.table)
-        self.resize(*options.size)
+        self.resize(*opening_size())
         self.robot_changed()
         if options.workspace:
             self.act_toggle_workspace()
@@ -249,10 +279,6 @@ class MainWindow(QtWidgets.QMainWindow):
         self.joints.joint_moved.connect(self.joint_moved)
         self.joints.q_requested.connect(self.set_q)
         self.joints.edit_finished.connect(self.view.setFocus)  # Enter / Esc in a box: keys are shortcuts again
-        scroll = QtWidgets.QScrollArea()
-        scroll.setWidgetResizable(True)
-        scroll.setWidget(self.joints)
-        layout.addWidget(scroll, 3)
         self.readout = QtWidgets.QLabel()
         font = QtGui.QFont(qs.HELP_FONT_FAMILY, qs.READOUT_FONT_PT)
         font.setStyleHint(QtGui.QFont.TypeWriter)
@@ -260,15 +286,30 @@ class MainWindow(QtWidgets.QMainWindow):
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.readout.setToolTip("endeffector pose in the world: position, roll-pitch-yaw (URDF), "
                                 "quaternion; Yoshikawa's manipulability")
-        layout.addWidget(self.readout)
-        layout.addWidget(QtWidgets.QLabel("Frames"))
         self.frames_list = QtWidgets.QListWidget()
+        self.frames_list.setVerticalScrollBarPolicy(Qt.ScrollBarAlwaysOff)  # as tall as its rows
         self.frames_list.itemChanged.connect(self.frame_item_changed)
-        layout.addWidget(self.frames_list, 2)
-        for widget in (self.robot_combo, scroll, self.frames_list):
+        # one scroll area for all that grows with the joints: at 1024x768 a 7-joint arm
+        # scrolls as a whole instead of squeezing its rows into nested scroll boxes
+        body = QtWidgets.QWidget()
+        column = QtWidgets.QVBoxLayout(body)
+        column.setContentsMargins(0, 0, 0, 0)
+        for widget in (self.joints, self.readout, QtWidgets.QLabel("Frames"), self.frames_list):
+            column.addWidget(widget)
+        column.addStretch(1)
+        self.dock_scroll = ColumnScroll()
+        self.dock_scroll.setWidgetResizable(True)
+        self.dock_scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
+        self.dock_scroll.setFrameShape(QtWidgets.QFrame.NoFrame)
+        self.dock_scroll.setWidget(body)
+        layout.addWidget(self.dock_scroll, 1)
+        for widget in (self.robot_combo, self.dock_scroll, self.frames_list):
             widget.setFocusPolicy(Qt.NoFocus)  # keys stay with the GL view
         dock.setWidget(panel)
         dock.setMinimumWidth(qs.DOCK_MIN_WIDTH)
+        # the right dock runs the window's full height; the bottom docks sit under the view
+        self.setCorner(Qt.TopRightCorner, Qt.RightDockWidgetArea)
+        self.setCorner(Qt.BottomRightCorner, Qt.RightDockWidgetArea)
         self.addDockWidget(Qt.RightDockWidgetArea, dock)
 
     def build_dh_dock(self) -> None:
@@ -295,8 +336,7 @@ class MainWindow(QtWidgets.QMainWindow):
         """Rebuild the joint rows, the DH table and the frame list for the session's robot."""
         robot = self.session.robot
         self.joints.set_robot(robot)
-        self.motion_panel.set_robot(robot.n_dofs)
-        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
+        self.show_motion_mode()
         self.dh_dock.set_robot(robot, self.session.state.q())
         annotated = self.session.options.annotate_joint  # --annotate J: its row selected
         if annotated is not None and self.dh_dock.selected_joint() != annotated - 1:
@@ -309,6 +349,10 @@ class MainWindow(QtWidgets.QMainWindow):
             item.setFlags(Qt.ItemIsUserCheckable | Qt.ItemIsEnabled)
             self.frames_list.addItem(item)
         self.frames_list.blockSignals(False)
+        rows = self.frames_list.count()
+        self.frames_list.setFixedHeight(rows * self.frames_list.sizeHintForRow(0) + 2 * self.frames_list.frameWidth())
+        self.dock_scroll.widget().ensurePolished()  # its real fonts and styles, so the dock is
+        self.dock_scroll.updateGeometry()  # as wide as it needs before it is first shown
         self.update_title()
         self.sync_widgets()
 
@@ -505,17 +549,22 @@ class MainWindow(QtWidgets.QMainWindow):
             motion = self.session.motion
             note = " (inertials estimated from the link geometry: the file has none)" if motion.estimated else ""
             self.message(f"motion: {motion.label}{note}")
-        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
+        self.show_motion_mode()
         self.start_motion()
         self.sync_widgets()
+
+    def show_motion_mode(self) -> None:
+        """The chooser names the session's motion mode; effort bars in physical modes."""
+        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
+        self.joints.show_efforts(self.session.physical)
 
     def sync_motion(self) -> None:
         """Effort bars, and a flash and a message for each joint-limit arrival."""
         for event in self.session.limit_events:
-            self.motion_panel.flash(event.joint)
+            self.joints.flash(event.joint)
             self.message(f"joint {event.joint + 1} hit its {event.side} limit at t = {event.time:.3f} s")
         self.session.limit_events.clear()
-        self.motion_panel.sync(self.session.motion if self.session.physical else None)
+        self.joints.sync_efforts(self.session.motion if self.session.physical else None)
 
     @guarded
     def set_q(self, q: np.ndarray) -> None:
@@ -601,7 +650,7 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.help.isVisible():
             self.help.hide()
             return
-        self.help.fit(self.rect())
+        self.help.fit(self.view.rect())
         self.help.show()
         self.help.raise_()
 
@@ -611,11 +660,6 @@ class MainWindow(QtWidgets.QMainWindow):
             self.help.hide()
         else:
             self.close()
-
-    def resizeEvent(self, event: QtGui.QResizeEvent) -> None:
-        super().resizeEvent(event)
-        if self.help.isVisible():
-            self.help.fit(self.rect())
 
     def act_view_preset(self, name: str) -> None:
         """Look from the front, side, top or iso direction (VIEW_PRESETS)."""
@@ -773,9 +817,12 @@ class MainWindow(QtWidgets.QMainWindow):
         if self.pick_panel is None:
             self.pick_panel = PickPanel(self, self.act_toggle_pick, self.seek_pick, self.set_pick_speed)
             self.plot_dock = PlotDock(self)
-            self.addDockWidget(Qt.BottomDockWidgetArea, self.plot_dock)
+            # the timeline right under the view, the plots in a tab beside the DH table: each
+            # gets the view's whole width (side by side at 1024x768 the plots were cut off)
             self.addDockWidget(Qt.BottomDockWidgetArea, self.pick_panel)
-            self.splitDockWidget(self.plot_dock, self.pick_panel, Qt.Vertical)
+            self.splitDockWidget(self.pick_panel, self.dh_dock, Qt.Vertical)
+            self.tabifyDockWidget(self.dh_dock, self.plot_dock)
+            self.plot_dock.raise_()
             self.resizeDocks([self.plot_dock], [round(self.height() * qs.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
         self.plot_dock.show_trajectory(self.session.pick.plan.trajectory, self.session.pick.effort)
         self.sync_pick()

@@ -2,7 +2,7 @@
 circle demo and its gains, readout and status formats, trail, recording."""
 
 # Window size (the window and --screenshot default)
-WINDOW_DEFAULT_SIZE = (1024, 768)    # px, --size default (window and screenshot)
+WINDOW_DEFAULT_SIZE = (1024, 768)    # px, --size default: --screenshot and --record pictures
 UNLIMITED_REVOLUTE_RANGE_DEG = 180.0 # slider range of a revolute joint without limits
 UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without limits
 
