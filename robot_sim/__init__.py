@@ -66,6 +66,19 @@ _EXPORTS = {
     "scale_to_limits": "robot_sim.planning.scaling",
     "plan_pick": "robot_sim.planning.pick_task",
     "load_task": "robot_sim.planning.task_file",
+    # geometry and collision
+    "Box": "robot_sim.model.shapes",
+    "Sphere": "robot_sim.model.shapes",
+    "Cylinder": "robot_sim.model.shapes",
+    "Capsule": "robot_sim.model.shapes",
+    "Mesh": "robot_sim.model.shapes",
+    "HalfSpace": "robot_sim.model.shapes",
+    "World": "robot_sim.model.world",
+    "load_world": "robot_sim.io.world_file",
+    "WorldDefinitionError": "robot_sim.io.world_file",
+    "CollisionChecker": "robot_sim.collision.checker",
+    "DistanceResult": "robot_sim.collision.distance",
+    "shape_distance": "robot_sim.collision.distance",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -31,7 +31,7 @@ import math
 import os
 import weakref
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -621,6 +621,12 @@ def _size_text(n_bytes: int) -> str:
 # ------------------------------------------------------------------ inverse kinematics
 
 
+class CollisionQuery(Protocol):
+    """What :func:`solve_ik` asks of a collision checker (``robot_sim.collision``)."""
+
+    def in_collision(self, q: FloatArray) -> bool: ...
+
+
 @dataclass(frozen=True)
 class IKResult:
     """Outcome of :func:`solve_ik`.
@@ -846,6 +852,7 @@ def solve_ik(
     max_restarts: int = 50,
     respect_limits: bool = True,
     seed: int | None = 0,
+    checker: CollisionQuery | None = None,
 ) -> IKResult:
     """Joint vector that puts the endeffector at ``target`` (world frame, 4×4 or
     :class:`HomogeneousTransform`), by damped least squares (Levenberg–Marquardt).
@@ -862,9 +869,14 @@ def solve_ik(
     Redundant arms add a null-space pull toward home.  Arms with fewer than six joints
     always solve position only (``position_only`` in the result says so, with a message).
 
-    Success means ``pos_err <= tol_pos`` and, unless position only, ``rot_err <= tol_rot``.
-    A failure is a result with ``success=False`` holding the best in-limit configuration
-    found.  Raises ValueError for a target that is not a rigid transform, a wrong-length
+    With a ``checker`` (a ``robot_sim.collision.CollisionChecker`` of this robot, or any
+    object whose ``in_collision(q)`` answers for one configuration) a converged
+    configuration in collision is not a solution: the search restarts past it, and the
+    message of a failure says how many such minima it met.
+
+    Success means ``pos_err <= tol_pos`` and, unless position only, ``rot_err <= tol_rot``
+    (and, with a checker, no collision).  A failure is a result with ``success=False``
+    holding the best in-limit configuration found.  Raises ValueError for a target that is not a rigid transform, a wrong-length
     or non-finite ``q0``, or non-positive tolerances.
     """
     robot = robot_params
@@ -874,6 +886,8 @@ def solve_ik(
     max_iter = _check_int("max_iter", max_iter, 1)
     max_restarts = _check_int("max_restarts", max_restarts, 0)
     seed = _check_seed(seed)
+    if checker is not None and not callable(getattr(checker, "in_collision", None)):
+        raise ValueError(f"checker must have an in_collision(q) method (a CollisionChecker), got {clip_repr(checker)}")
     q = check_joint_vector(robot.q_home if q0 is None else q0, robot.n_dofs, "q0")
     if q.ndim != 1:
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q.shape}")
@@ -891,7 +905,16 @@ def solve_ik(
 
     # From here on nothing raises: overflow on absurd robots gives inf/NaN errors that no
     # step accepts, and any arithmetic failure ends the search with the best pose so far.
-    best, iterations, restarts, bounded, failure = None, 0, 0, True, ""
+    best, iterations, restarts, bounded, failure, colliding = None, 0, 0, True, "", 0
+
+    def accepted(pose: _Pose) -> bool:
+        """False for a converged pose that the checker finds in collision."""
+        nonlocal colliding
+        if checker is None or not problem.converged(pose) or not checker.in_collision(pose.q):
+            return True
+        colliding += 1
+        return False
+
     with np.errstate(all="ignore"):
         try:
             while True:
@@ -902,27 +925,30 @@ def solve_ik(
                     if not problem.converged(pose) and iterations < max_iter:
                         pose, used = problem.descend(pose.q, True, min(problem.ITERS_PER_START, max_iter - iterations))
                         iterations += used
-                if best is None or pose.cost < best.cost:
+                if accepted(pose) and (best is None or pose.cost < best.cost):
                     best = pose
-                if problem.converged(best) or restarts >= max_restarts or iterations >= max_iter:
+                done = best is not None and problem.converged(best)
+                if done or restarts >= max_restarts or iterations >= max_iter:
                     break
                 restarts += 1
-                q, bounded = problem.restart_sample(rng, best.q), False
+                q, bounded = problem.restart_sample(rng, pose.q if best is None else best.q), False
         except (np.linalg.LinAlgError, ArithmeticError) as exc:
             failure = f"numerical failure ({clip(str(exc))}) after {iterations} iterations: "
-        if best is None:  # failed in the first descent: report where it started
+        if best is None:  # failed in the first descent, or every minimum collided: report where it started
             q_start = problem.into_limits(q) if np.isfinite(q).all() else np.array(robot.q_home)
             try:
                 best = problem.evaluate(q_start)
             except (np.linalg.LinAlgError, ArithmeticError):
                 best = _Pose(q_start, np.full(1, np.inf), np.zeros((1, robot.n_dofs)), math.inf, math.inf)
 
-    success = problem.converged(best) and not failure
+    success = problem.converged(best) and not failure and (checker is None or not checker.in_collision(best.q))
     if success:
         message += f"converged in {iterations} iterations ({restarts} restarts)"
     else:
         message += failure or f"did not converge in {iterations} iterations ({restarts} restarts): "
         message += f"position error {best.pos_err:.3g} m, rotation error {best.rot_err:.3g} rad"
+        if colliding:
+            message += f"; {colliding} converged configuration{'s were' if colliding > 1 else ' was'} in collision"
     return IKResult(
         q=best.q.copy(),
         success=success,

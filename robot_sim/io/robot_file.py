@@ -31,6 +31,7 @@ from robot_sim.model.params import (
     JTYPE_REVOLUTE,
     RobotDefinitionError,
     RobotParams,
+    link_names,
 )
 from robot_sim.transforms import HomogeneousTransform
 
@@ -46,7 +47,7 @@ def _robots_dir() -> Path:
 ROBOTS_DIR = _robots_dir()
 
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
-TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control"}
+TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control", "collision"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive", *GEOMETRY_KEYS}
 DH_KEYS = ("a", "alpha", "d", "theta")
@@ -54,6 +55,9 @@ DH_KEYS = ("a", "alpha", "d", "theta")
 #: closed-loop natural frequency in Hz (> 0), ``damping`` ratio (> 0), ``kp`` and ``kd``
 #: per-joint PD gains (n numbers ≥ 0; N·m/rad and N·m·s/rad, or N/m and N·s/m).
 CONTROL_KEYS = {"bandwidth", "damping", "kp", "kd"}
+#: Keys of the optional ``[collision]`` table: ``allow``, pairs of link names ("base",
+#: "link1" .. "linkN") never checked for collision, e.g. ``allow = [["link2", "link4"]]``.
+COLLISION_KEYS = {"allow"}
 
 # Bounds of a robot file (README, "Robot file format").  With at most MAX_JOINTS joints,
 # lengths within ±MAX_LENGTH and angles within ±MAX_ANGLE_DEG, forward kinematics is
@@ -284,6 +288,7 @@ def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = F
     }
     base_geometry = {key: tables.shapes(base_tables[key], f"base.{key}", key) if key in base_tables else ()
                      for key in GEOMETRY_KEYS}
+    allow = _parse_collision(check, data["collision"], len(jtypes)) if "collision" in data else ()
 
     return RobotParams(
         name=name,
@@ -308,6 +313,7 @@ def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = F
         collisions=tuple(geometry["collision"]),
         base_visuals=base_geometry["visual"],
         base_collisions=base_geometry["collision"],
+        collision_allow=allow,
     )
 
 
@@ -330,3 +336,28 @@ def _parse_control(check: FieldChecker, table: Any, n: int) -> dict[str, Any]:
                 raise check.fail(f"control.{key}", f"gains must be >= 0, got {clip_repr(table[key])}")
             control[key] = tuple(gains)
     return control
+
+
+def _parse_collision(check: FieldChecker, table: Any, n: int) -> tuple[tuple[str, str], ...]:
+    """The validated ``[collision]`` table: ``allow``, a list of [link, link] name pairs."""
+    if not isinstance(table, dict):
+        raise check.fail("collision", f"expected a table with key allow, got {clip_repr(table)}")
+    check.keys(table, COLLISION_KEYS, "collision")
+    pairs = table.get("allow", [])
+    names = link_names(n)
+    accepted = f"accepted link names: {', '.join(names)}"
+    if not isinstance(pairs, list):
+        raise check.fail("collision.allow", f"expected a list of [link, link] pairs, got {clip_repr(pairs)}")
+    out: list[tuple[str, str]] = []
+    for k, pair in enumerate(pairs):
+        where = f"collision.allow[{k}]"
+        if not (isinstance(pair, list) and len(pair) == 2):
+            raise check.fail(where, f"expected a pair of link names like [\"link2\", \"link4\"], got {clip_repr(pair)}")
+        for name in pair:
+            if not isinstance(name, str) or name not in names:
+                raise check.fail(where, f"unknown link {clip_repr(name)}; {accepted}")
+        if pair[0] == pair[1]:
+            raise check.fail(where, f"a link is never checked against itself: {clip_repr(pair)}")
+        if tuple(pair) not in out and (pair[1], pair[0]) not in out:
+            out.append((pair[0], pair[1]))
+    return tuple(out)

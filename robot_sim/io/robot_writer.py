@@ -253,7 +253,24 @@ def robot_document(
         place.sync(doc["base"], base_shapes)
     _set_frame(doc, "base", robot.base_tf, to_rad)
     _set_frame(doc, "tool", robot.tool_tf, to_rad)
+    _set_collision(doc, robot)
     return doc
+
+
+def _set_collision(doc: Any, robot: RobotParams) -> None:
+    """The ``[collision] allow`` pairs of ``robot`` (the table removed when it has none)."""
+    pairs = [list(pair) for pair in robot.collision_allow]
+    table = doc.get("collision")
+    current = table.get("allow", []) if isinstance(table, dict) else None
+    if current is not None and [list(p) for p in current] == pairs:
+        return
+    if not pairs:
+        if "collision" in doc:
+            del doc["collision"]
+        return
+    if not isinstance(table, dict):
+        doc["collision"] = tomlkit.table()
+    doc["collision"]["allow"] = pairs
 
 
 def to_toml(robot: RobotParams, template: str | None = None, directory: str | os.PathLike[str] | None = None) -> str:

@@ -30,6 +30,12 @@ CONVENTION_MODIFIED = "modified"
 CONVENTIONS = (CONVENTION_STANDARD, CONVENTION_MODIFIED)
 
 DEFAULT_COM_FRACTION = 0.5
+BASE_LINK_NAME = "base"
+
+
+def link_names(n_dofs: int) -> tuple[str, ...]:
+    """Names of the links of an n-joint robot: ``"base"``, then ``"link1"`` .. ``"linkN"``."""
+    return (BASE_LINK_NAME,) + tuple(f"link{i}" for i in range(1, n_dofs + 1))
 
 #: Shapes a link may be made of (a half-space is an obstacle, never part of a link).
 LINK_SHAPE_TYPES = (Box, Sphere, Cylinder, Capsule, Mesh)
@@ -60,6 +66,8 @@ class RobotParams:
     joint i); ``base_visuals`` and ``base_collisions`` are the base's, posed in frame 0.
     Empty tuples where a description has none (``()`` is taken as n empty tuples).
     :func:`~robot_sim.model.convert.to_standard`/``to_modified`` move them with the frames.
+    ``collision_allow`` holds pairs of link names (:attr:`link_names`) never checked for
+    collision, from the file's ``[collision] allow`` table.
     """
 
     name: str
@@ -84,6 +92,7 @@ class RobotParams:
     collisions: tuple[tuple[LinkShape, ...], ...] = ()
     base_visuals: tuple[LinkShape, ...] = ()
     base_collisions: tuple[LinkShape, ...] = ()
+    collision_allow: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:
@@ -139,6 +148,11 @@ class RobotParams:
     def n_links(self) -> int:
         """Number of moving links (one per joint; link 0, the base, is not counted)."""
         return self.n_dofs
+
+    @property
+    def link_names(self) -> tuple[str, ...]:
+        """Names of the links: ``"base"`` (frame 0), then ``"link1"`` .. ``"linkN"`` (frame i)."""
+        return link_names(self.n_dofs)
 
     @property
     def is_revolute(self) -> NDArray[np.bool_]:

@@ -1,0 +1,64 @@
+"""The numba settings of the collision kernels (compiled once per machine, cached).
+
+The kernels are scalar code over one shape pair or one configuration; the batched
+entry points loop over configurations inside compiled code.  ``cache=True`` keeps the
+machine code next to the modules (``__pycache__``) or, when that directory is not
+writable (an installed package), in a per-user directory under the temporary directory.
+
+numba checks a cached function against its own file only, not against the files of the
+functions it calls (which it compiled in): a kernel edited in ``closest.py`` would stay
+stale inside ``batch.py``'s cache.  So the cache of all kernel modules is dropped
+whenever any of their sources changes (a digest of them is kept next to the cache).
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import tempfile
+from pathlib import Path
+
+import numba
+from numba import njit
+
+HERE = Path(__file__).resolve().parent
+#: The modules holding compiled kernels (they call each other).
+KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels")
+
+if not os.access(HERE, os.W_OK) and not os.environ.get("NUMBA_CACHE_DIR"):
+    numba.config.CACHE_DIR = str(Path(tempfile.gettempdir()) / f"robot_sim-numba-{os.getuid()}")
+
+#: Options of every compiled collision kernel.
+JIT = dict(cache=True, nogil=True, error_model="numpy")
+
+
+def _cache_dirs() -> list[Path]:
+    dirs = [HERE / "__pycache__"]
+    if numba.config.CACHE_DIR:
+        dirs.append(Path(numba.config.CACHE_DIR))
+    return [d for d in dirs if d.is_dir()]
+
+
+def drop_stale_cache() -> None:
+    """Remove the cached machine code of the kernel modules if their sources changed."""
+    digest = hashlib.sha256()
+    for name in KERNEL_MODULES:
+        path = HERE / f"{name}.py"
+        if path.exists():
+            digest.update(path.read_bytes())
+    stamp_text = digest.hexdigest()
+    for cache in _cache_dirs():
+        stamp = cache / "collision-kernels.sha256"
+        try:
+            if stamp.exists() and stamp.read_text() == stamp_text:
+                continue
+            for name in KERNEL_MODULES:
+                for old in cache.rglob(f"{name}.*.nb[ic]"):
+                    old.unlink(missing_ok=True)
+            stamp.write_text(stamp_text)
+        except OSError:  # a read-only or vanishing cache: numba recompiles as needed
+            continue
+
+
+drop_stale_cache()
+
+__all__ = ["JIT", "njit"]
