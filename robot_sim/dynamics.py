@@ -864,6 +864,41 @@ def forward_dynamics(
     return out.T
 
 
+def constrained_forward_dynamics(
+    robot: RobotParams,
+    q: ArrayLike,
+    qd: ArrayLike,
+    tau: ArrayLike,
+    held: ArrayLike,
+    gravity: ArrayLike = GRAVITY,
+    f_tool: ArrayLike | None = None,
+) -> tuple[FloatArray, FloatArray]:
+    """Forward dynamics with the ``held`` joints locked (by joint stops): (q̈, λ), each
+    (n,) or (N, n).  ``held`` is bool, (n,) for every configuration or the shape of q.
+
+    M q̈ = τ − C q̇ − g − τ_f + Jᵀ f_tool + λ with q̈ exactly zero on the held joints and λ
+    zero on the others: the free joints solve their rows and columns of M (the held rows
+    and columns replaced by the identity's), and λ [N·m or N] is the torque the
+    constraint exerts on each held joint (its reaction).  The held joints' velocities
+    should be zero (a held joint does not move)."""
+    single, (Q, QD, TAU) = _arguments(robot, q, qd=qd, tau=tau)
+    n = robot.n_dofs
+    mask = np.asarray(held)
+    if mask.dtype != np.bool_ or mask.shape not in ((n,), np.shape(q)):
+        raise ValueError(
+            f"held must be a bool array of shape ({n},) or of the shape of q, {np.shape(q)}, "
+            f"got {mask.dtype} of shape {mask.shape}"
+        )
+    H = np.broadcast_to(mask, Q.shape)
+    M = mass_matrix(robot, Q)
+    rhs = TAU - bias_torque(robot, Q, QD, gravity, f_tool)
+    A = np.where(H[:, :, None] | H[:, None, :], 0.0, M)
+    A[:, np.arange(n), np.arange(n)] += H
+    qdd = np.where(H, 0.0, np.linalg.solve(A, np.where(H, 0.0, rhs)[..., None])[..., 0])
+    reaction = np.where(H, np.einsum("nij,nj->ni", M, qdd) - rhs, 0.0)
+    return (qdd[0], reaction[0]) if single else (qdd, reaction)
+
+
 def _link_jacobians(robot: RobotParams, Q: FloatArray, QD: FloatArray) -> dict[str, FloatArray]:
     """World-frame per-link quantities (N configurations, k = link, j = joint): COM
     Jacobians ``Jv``, ``Jw`` (N, k, 3, j) and their time derivatives ``Jv_dot``, ``Jw_dot``

@@ -16,10 +16,18 @@ One step of length h, in this order:
 3. Forward dynamics (``dynamics.forward_dynamics``) with the optional pull force at the tool (a spring toward a point,
    see :meth:`Simulation.set_pull`), integrated by semi-implicit (symplectic) Euler —
    ``qd += h·qdd(q, qd); q += h·qd`` — or classical RK4.
+   Joint limits are stops consistent with the mass matrix (``joint_stops``): a step that
+   would carry a joint past its limit is cut at the instant it arrives (the step length
+   found by Newton's method on the integrator's own step, to 1e-12 rad or m), the stops
+   apply the impact impulse over the joints they touch (inelastic unless ``restitution``
+   is set; kinetic energy never increases), a :class:`LimitEvent` records the arrival
+   and the impulse, and the rest of the step is integrated from there.  A joint resting
+   on its stop at zero velocity whose acceleration pushes into it is held: the step
+   integrates the dynamics with that joint's row and column removed, and
+   :attr:`Simulation.limit_torque` is the stop's reaction torque.  It is released when
+   the reaction would pull (checked at the start of every step).  Steps that touch no
+   stop are computed exactly as without stops.
 4. Velocity limits: the drive brakes a joint at its velocity limit (``qd`` clipped).
-5. Joint limits as hard stops: a joint that crosses a limit stops on it, its velocity
-   into the limit is zeroed (an inelastic stop) and a :class:`LimitEvent` is recorded
-   when it arrives there.
 
 A step whose state or effort is not finite (or whose mass matrix cannot be solved)
 does not happen: the simulation keeps the last finite state, stops, and
@@ -39,6 +47,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.control import joint_stops
 from robot_sim.control.controllers import Controller, Passive
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
@@ -56,17 +65,30 @@ INTEGRATORS = dynamics.INTEGRATORS
 DEFAULT_MAX_LAG = 0.1
 #: Wall-clock span over which the real-time factor is averaged [s].
 RTF_WINDOW = 0.5
+#: Arrivals slower than this [rad/s or m/s] are inelastic whatever the restitution, and
+#: joints an impact would leave moving off their stops slower than this are held
+#: (``joint_stops.impact``'s ``hold_speed``): bounces and knocks that small would only
+#: start infinitely many ever smaller ones in finite time.
+BOUNCE_MIN_SPEED = 1e-2
+#: An arrival is located when the joint is within this distance of its stop [rad or m];
+#: it is then put exactly on the stop.
+ARRIVAL_TOLERANCE = 1e-12
+#: Newton (bisection when it leaves the bracket) iterations to locate an arrival.
+LOCATE_ITERATIONS = 60
 
 
 @dataclass(frozen=True)
 class LimitEvent:
     """Joint ``joint`` (0-based) reached its ``side`` (``"min"`` or ``"max"``) limit
-    ``q`` [rad or m] at simulated time ``time`` [s]."""
+    ``q`` [rad or m] at simulated time ``time`` [s], and its stop applied the joint impulse
+    ``impulse`` [N·m·s or N·s] (positive pushes toward larger q; zero for an arrival at
+    zero speed)."""
 
     time: float
     joint: int
     side: str
     q: float
+    impulse: float = 0.0
 
 
 def drive_limits(robot: RobotParams) -> tuple[FloatArray, FloatArray]:
@@ -103,6 +125,7 @@ class Simulation:
     state and the desired state, and receives the simulated state after every call of
     :meth:`step` or :meth:`advance`.  ``controller`` defaults to :class:`control.Passive`.
     ``dt`` is the fixed step [s]; ``integrator`` ``"rk4"`` or ``"euler"`` (semi-implicit).
+    ``restitution`` in [0, 1] is the joint stops' coefficient of restitution (0: inelastic).
     """
 
     def __init__(
@@ -115,6 +138,7 @@ class Simulation:
         integrator: str = "rk4",
         reference: Reference | None = None,
         max_lag: float = DEFAULT_MAX_LAG,
+        restitution: float = 0.0,
     ) -> None:
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
@@ -129,12 +153,15 @@ class Simulation:
         self.dt = float(dt)
         self.max_lag = float(max_lag)
         self.integrator = integrator
+        self.restitution = restitution
         self.reference = reference
         n = robot.n_dofs
         self.effort_limit, self.velocity_limit = drive_limits(robot)
         self._limit_effort = bool(np.isfinite(self.effort_limit).any())
         self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
         self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
+        self._max_arrivals = 4 * n + 4  # per step: more means the stops cannot resolve it
+        self._point_ranges = bool((robot.q_min == robot.q_max).any())  # joints held both ways
         #: Simulated time [s] and number of steps taken.
         self.time = 0.0
         self.steps = 0
@@ -147,6 +174,10 @@ class Simulation:
         self.saturated = np.zeros(n, dtype=bool)
         self.velocity_limited = np.zeros(n, dtype=bool)
         self.at_limit = np.zeros(n, dtype=bool)
+        #: Reaction torque [N·m or N] of the stops holding joints at the start of the last
+        #: step (zero for free joints): M q̈ = τ − C q̇ − g (…) + limit_torque.
+        self.limit_torque = self._no_reaction = np.zeros(n)
+        self._no_reaction.flags.writeable = False
         #: Applied (saturated) and commanded effort of the last step [N·m or N].
         self.effort = np.zeros(n)
         self.effort_command = np.zeros(n)
@@ -174,6 +205,18 @@ class Simulation:
         if name not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {name!r}")
         self._integrator = name
+
+    @property
+    def restitution(self) -> float:
+        """Coefficient of restitution of the joint stops, in [0, 1]: an arriving joint
+        leaves at this fraction of its approach speed (0: it stops on the limit)."""
+        return self._restitution
+
+    @restitution.setter
+    def restitution(self, value: float) -> None:
+        if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
+            raise ValueError(f"restitution must be a number in [0, 1], got {value!r}")
+        self._restitution = float(value)
 
     def load_state(self) -> None:
         """Take the current q and qd from the RobotState (after it was set from outside,
@@ -278,18 +321,27 @@ class Simulation:
         # The first stage's acceleration is known when the controller's model is the
         # simulated robot and nothing else acts (computed torque: its reference
         # acceleration, to round-off), which saves one forward dynamics per step.
-        known = None
-        if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
-            known = self.controller.commanded_acceleration()
-        q1, qd1, qdd = self._integrate(q, qd, tau, f_tool, known)
+        stops = None
+        if self._any_at_limit:
+            q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, f_tool)
+        else:
+            known = None
+            if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
+                known = self.controller.commanded_acceleration()
+            q1, qd1, qdd = self._integrate(q, qd, tau, f_tool, known)
+            if self._limit_position and self._crosses(q1):
+                q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
         velocity_limited = self.velocity_limited
         if self._limit_velocity:
             velocity_limited = np.abs(qd1) > self.velocity_limit
             qd1 = np.clip(qd1, -self.velocity_limit, self.velocity_limit)
-        if self._limit_position:
-            self._hard_stops(q1, qd1)
         if not (_finite(q1) and _finite(qd1)):
             raise _Diverged("the joint state became non-finite")
+        if stops is not None:
+            self.limit_torque, events = stops
+            self.events.extend(events)
+            self.at_limit = (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
+            self._any_at_limit = bool(self.at_limit.any())
         self.q, self.qd, self.qdd = q1, qd1, qdd
         self.effort_command, self.effort = command, tau
         self.saturated = saturated
@@ -297,23 +349,49 @@ class Simulation:
         self.time += self.dt
         self.steps += 1
 
-    def _accel(self, q: FloatArray, qd: FloatArray, tau: FloatArray, f_tool: FloatArray | None) -> FloatArray:
+    def _dynamics(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        f_tool: FloatArray | None,
+        held: NDArray[np.bool_] | None,
+    ) -> tuple[FloatArray, FloatArray | None]:
+        """q̈ at (q, qd) with the ``held`` joints locked on their stops (None: none) and
+        the stops' reaction (None without held joints)."""
         try:
-            qdd = dynamics.forward_dynamics(self.robot, q, qd, tau, f_tool=f_tool)
+            if held is None:
+                qdd, torque = dynamics.forward_dynamics(self.robot, q, qd, tau, f_tool=f_tool), None
+            else:
+                qdd, torque = dynamics.constrained_forward_dynamics(self.robot, q, qd, tau, held, f_tool=f_tool)
         except ValueError:  # refused a stage state that overflowed (finite rates, huge values)
             if _finite(q) and _finite(qd):
                 raise
             raise _Diverged("the joint state became non-finite") from None
         if not _finite(qdd):
             raise _Diverged("the joint acceleration became non-finite")
-        return qdd
+        return qdd, torque
+
+    def _accel(
+        self, q: FloatArray, qd: FloatArray, tau: FloatArray, f_tool: FloatArray | None, held: NDArray[np.bool_] | None = None
+    ) -> FloatArray:
+        return self._dynamics(q, qd, tau, f_tool, held)[0]
 
     def _integrate(
-        self, q: FloatArray, qd: FloatArray, tau: FloatArray, f_tool: FloatArray | None, a1: FloatArray | None = None
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        f_tool: FloatArray | None,
+        a1: FloatArray | None = None,
+        h: float | None = None,
+        locked: NDArray[np.bool_] | None = None,
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(q, qd) after one step and the acceleration at its start (``a1`` when known)."""
-        h = self.dt
-        if f_tool is None:  # one call of a dynamics.Stepper (a fused kernel when compiled)
+        """(q, qd) after a step of ``h`` (default ``dt``) with the ``locked`` joints held,
+        and the acceleration at its start (``a1`` when known)."""
+        if h is None:
+            h = self.dt
+        if f_tool is None and locked is None and h == self.dt:  # one call of a dynamics.Stepper
             stepper = self._stepper
             if stepper is None or stepper.dt != h or stepper.method != self._integrator:
                 stepper = self._stepper = dynamics.Stepper(self.robot, 1, h, self._integrator)
@@ -325,35 +403,172 @@ class Simulation:
                 raise _Diverged("the joint acceleration became non-finite")
             return step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
         if a1 is None or not _finite(a1):
-            a1 = self._accel(q, qd, tau, f_tool)
+            a1 = self._accel(q, qd, tau, f_tool, locked)
         if self._integrator == "euler":
             qd1 = qd + h * a1
             return q + h * qd1, qd1, a1
         v2 = qd + 0.5 * h * a1
-        a2 = self._accel(q + 0.5 * h * qd, v2, tau, f_tool)
+        a2 = self._accel(q + 0.5 * h * qd, v2, tau, f_tool, locked)
         v3 = qd + 0.5 * h * a2
-        a3 = self._accel(q + 0.5 * h * v2, v3, tau, f_tool)
+        a3 = self._accel(q + 0.5 * h * v2, v3, tau, f_tool, locked)
         v4 = qd + h * a3
-        a4 = self._accel(q + h * v3, v4, tau, f_tool)
+        a4 = self._accel(q + h * v3, v4, tau, f_tool, locked)
         q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
         qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
         return q1, qd1, a1
 
-    def _hard_stops(self, q: FloatArray, qd: FloatArray) -> None:
-        """Clip q (in place) into the limits, zero the velocity into a limit, record arrivals."""
+    # ------------------------------------------------------------------ joint stops
+    def _crosses(self, q: FloatArray) -> bool:
+        """True if some joint is beyond a limit."""
+        return bool(((q < self.robot.q_min) | (q > self.robot.q_max)).any())
+
+    def _through_stops(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        f_tool: FloatArray | None,
+        trial: tuple[FloatArray, FloatArray, FloatArray] | None = None,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, list[LimitEvent]]:
+        """One step that touches stops: (q, qd) after it, the acceleration at its start,
+        the stops' reaction torque at its start and the arrivals.  ``trial`` is the free
+        step from (q, qd) when it was already taken (and crossed a limit); without it the
+        step starts on a stop."""
         lo, hi = self.robot.q_min, self.robot.q_max
-        below, above = q <= lo, q >= hi
-        if not (below.any() or above.any() or self._any_at_limit):
-            return
-        np.clip(q, lo, hi, out=q)
-        qd[below & (qd < 0)] = 0.0
-        qd[above & (qd > 0)] = 0.0
-        at_limit = below | above
-        for j in np.flatnonzero(at_limit & ~self.at_limit):
-            side = "min" if below[j] else "max"
-            self.events.append(LimitEvent(self.time + self.dt, int(j), side, float(q[j])))
-        self.at_limit = at_limit
-        self._any_at_limit = bool(at_limit.any())
+        events: list[LimitEvent] = []
+        reaction, locked, a1 = self._no_reaction, None, None
+        elapsed, h = 0.0, self.dt
+        if trial is None:
+            push = joint_stops.stop_push(q, lo, hi)
+            on = (q == lo) | (q == hi)
+            if (push * qd < 0.0).any() or self._point_ranges:  # set (load_state) or landed on a stop, moving into it
+                into = on & (qd != 0.0) & (push * qd <= 0.0)
+                if into.any():
+                    qd = self._impact(q, qd, push, on, into, 0.0, events)
+            locked, a1, reaction = self._rest(q, qd, tau, f_tool, push, on)
+        qdd = None
+        for _ in range(self._max_arrivals):
+            if trial is None:
+                trial = self._integrate(q, qd, tau, f_tool, a1, h, locked)
+            q1, qd1, a1 = trial
+            if qdd is None:
+                qdd = a1
+            if not self._crosses(q1):
+                return q1, qd1, qdd, reaction, events
+            s, q1, qd1, arriving = self._locate(q, qd, tau, f_tool, a1, h, locked, q1, qd1)
+            elapsed += s * h
+            h -= s * h
+            push = joint_stops.stop_push(q1, lo, hi)
+            on = (q1 == lo) | (q1 == hi)
+            q, qd = q1, self._impact(q1, qd1, push, on, arriving, elapsed, events)
+            if h <= 0.0:
+                return q, qd, qdd, reaction, events
+            locked, a1, _ = self._rest(q, qd, tau, f_tool, push, on)
+            trial = None
+        raise _Diverged(f"more than {self._max_arrivals} joint stop arrivals in one step")
+
+    def _rest(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        f_tool: FloatArray | None,
+        push: FloatArray,
+        on: NDArray[np.bool_],
+    ) -> tuple[NDArray[np.bool_] | None, FloatArray | None, FloatArray]:
+        """Which joints on a stop at rest the stops hold (None: none), the acceleration at
+        (q, qd) with them held (None: not computed) and the stops' reaction torque.
+        Holding every candidate is the answer when every reaction pushes (one constrained
+        forward dynamics, the common case of a joint that stays); otherwise
+        ``joint_stops.hold`` solves the complementarity problem."""
+        candidates = on & (qd == 0.0)
+        if not candidates.any():
+            return None, None, self._no_reaction
+        qdd, reaction = self._dynamics(q, qd, tau, f_tool, candidates)
+        if (push * reaction >= 0.0).all():
+            return candidates, qdd, reaction
+        M = dynamics.mass_matrix(self.robot, q)
+        rhs = tau - dynamics.bias_torque(self.robot, q, qd, f_tool=f_tool)
+        qdd, reaction, locked = joint_stops.hold(M, rhs, push, candidates)
+        if not locked.any():
+            return None, qdd, self._no_reaction
+        return locked, qdd, reaction
+
+    def _impact(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        push: FloatArray,
+        on: NDArray[np.bool_],
+        arriving: NDArray[np.bool_],
+        elapsed: float,
+        events: list[LimitEvent],
+    ) -> FloatArray:
+        """Velocities after the stops' impact at (q, qd); the ``arriving`` joints' events
+        (at ``elapsed`` seconds into the step) appended to ``events``."""
+        speed = float(np.abs(qd[arriving]).max()) if arriving.any() else 0.0
+        restitution = self._restitution if speed > BOUNCE_MIN_SPEED else 0.0
+        M = dynamics.mass_matrix(self.robot, q)
+        after, impulse, _ = joint_stops.impact(M, qd, push, on, restitution, BOUNCE_MIN_SPEED)
+        for j in np.flatnonzero(arriving):
+            side = "min" if q[j] == self.robot.q_min[j] else "max"
+            events.append(LimitEvent(self.time + elapsed, int(j), side, float(q[j]), float(impulse[j])))
+        return after
+
+    def _locate(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        f_tool: FloatArray | None,
+        a1: FloatArray,
+        h: float,
+        locked: NDArray[np.bool_] | None,
+        q1: FloatArray,
+        qd1: FloatArray,
+    ) -> tuple[float, FloatArray, FloatArray, NDArray[np.bool_]]:
+        """The first arrival within the step (q, qd) → (q1, qd1) of length h, which took a
+        joint past a limit: the fraction s of the step, (q, qd) there with the arriving
+        joints put exactly on their stops, and those joints.  Newton's method on the
+        integrator's step length (the derivative of q(s·h) is h·q̇), bisection where
+        Newton leaves the bracket."""
+        lo, hi = self.robot.q_min, self.robot.q_max
+        s_lo, s, target, side = 0.0, 1.0, -1, 1.0
+        crossed = (1.0, q1, qd1)
+        for _ in range(LOCATE_ITERATIONS):
+            below, above = q1 - lo, hi - q1
+            depth = np.minimum(below, above)
+            if locked is not None:
+                depth[locked] = np.inf
+            deepest = int(np.argmin(depth))
+            if target < 0 or depth[deepest] < -ARRIVAL_TOLERANCE:  # (the full step always sets the target)
+                target, side = deepest, (1.0 if below[deepest] < above[deepest] else -1.0)
+            distance = below[target] if side > 0 else above[target]
+            if depth[deepest] < -ARRIVAL_TOLERANCE:
+                crossed = (s, q1, qd1)
+            elif distance > ARRIVAL_TOLERANCE:
+                s_lo = s
+            else:
+                break
+            rate = side * h * qd1[target]
+            s_new = s - distance / rate if rate < 0.0 else -1.0
+            if not s_lo < s_new < crossed[0]:
+                s_new = 0.5 * (s_lo + crossed[0])
+            s = float(s_new)
+            q1, qd1, _ = self._integrate(q, qd, tau, f_tool, a1, s * h, locked)
+        else:
+            s, q1, qd1 = crossed  # bracket closed on a grazing arrival: take its end
+        q1 = q1.copy()
+        free = np.ones(q1.shape, dtype=bool) if locked is None else ~locked
+        at_lo = free & (q1 - lo <= ARRIVAL_TOLERANCE) & (qd1 <= 0.0)
+        at_hi = free & (hi - q1 <= ARRIVAL_TOLERANCE) & (qd1 >= 0.0)
+        if side > 0:
+            at_lo[target] = True
+        else:
+            at_hi[target] = True
+        q1[at_lo] = lo[at_lo]
+        q1[at_hi] = hi[at_hi]
+        return s, q1, qd1, at_lo | at_hi
 
     def _pull_wrench(self, q: FloatArray, qd: FloatArray) -> FloatArray | None:
         if self._pull is None:
