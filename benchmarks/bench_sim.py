@@ -15,6 +15,7 @@ MuJoCo's ``mj_step`` on the same arms, alternated in one run, is the optional
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 import time
@@ -111,8 +112,45 @@ def bench_sweep(table: Any, seconds: Callable[[float], str]) -> None:
     table.add(f"same sweep on a dask LocalCluster of 2 workers (same table)", seconds(wall), "—")
 
 
+def _resting_pair(robot: RobotParams) -> tuple[Simulation, Simulation, np.ndarray]:
+    """Two passive simulations released at rest from home: one with joint 2 (index 1) on
+    a stop that gravity presses it onto (held through every sample), one without that stop."""
+    q0 = robot.q_home.copy()
+    n = robot.n_dofs
+    q_min, q_max = robot.q_min.copy(), robot.q_max.copy()
+    falls_up = dynamics.forward_dynamics(robot, q0, np.zeros(n), np.zeros(n))[1] > 0
+    (q_max if falls_up else q_min)[1] = q0[1]
+    on_stop = dataclasses.replace(robot, q_min=q_min, q_max=q_max)
+    free = dataclasses.replace(robot, q_min=np.full(n, -np.inf), q_max=np.full(n, np.inf))
+    return Simulation(on_stop), Simulation(free), q0
+
+
+def bench_resting_step(table: Any, median_iqr: Callable, us: Callable[[float], str], repeats: int = 15) -> None:
+    """Step time with a joint resting on its stop (held: constrained forward dynamics and the
+    reaction check) against the free step, passive humanoid7, 1 kHz RK4; the two are
+    alternated sample by sample, each sample STEPS steps from the same rest state."""
+    held, free, q0 = _resting_pair(load_robot("humanoid7"))
+    samples: dict[Simulation, list[float]] = {held: [], free: []}
+    for _ in range(repeats + 1):  # the first round warms the kernels
+        for sim in (held, free):
+            sim.state.set_q(q0)
+            sim.state.set_qd(np.zeros_like(q0))
+            sim.load_state()
+            start = time.perf_counter()
+            sim.step(STEPS)
+            samples[sim].append((time.perf_counter() - start) / STEPS)
+        if held.q[1] != q0[1]:
+            raise RuntimeError("the benchmark's resting joint left its stop")
+    (rest, iqr), (base, _) = (median_iqr(samples[s][1:]) for s in (held, free))
+    table.add(
+        "simulation step, humanoid7 passive, joint 2 resting on its stop (vs free step)",
+        us(rest), us(iqr), us(base), f"{rest / base:.2f}× the free step", "≤ 1.3×",
+    )
+
+
 def bench_simulation(table: Any, measure: Callable[..., list[float]], median_iqr: Callable, us: Callable[[float], str]) -> None:
     bench_one_arm(table, measure, median_iqr, us)
+    bench_resting_step(table, median_iqr, us)
     bench_batch(table, measure, median_iqr, us)
     bench_sweep(table, lambda s: f"{s:.2f} s")
 

@@ -39,6 +39,7 @@ _EXPORTS = {
     "coriolis_matrix": "robot_sim.dynamics",
     "bias_torque": "robot_sim.dynamics",
     "forward_dynamics": "robot_sim.dynamics",
+    "constrained_forward_dynamics": "robot_sim.dynamics",
     "energy": "robot_sim.dynamics",
     # simulation and control
     "Simulation": "robot_sim.control.simulation",
