@@ -29,6 +29,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from bench_dynamics import using  # noqa: E402
+from robot_sim import dynamics  # noqa: E402
 from robot_sim.control.batch import BatchSimulation  # noqa: E402
 from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
 from robot_sim.control.simulation import Simulation  # noqa: E402

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, Controller, Gains, make_controller
-from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, drive_limits, stop_message
+from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, stop_message
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -120,6 +120,10 @@ class BatchSimulation:
         self.saturated = np.zeros(shape, dtype=bool)
         self.velocity_limited = np.zeros(shape, dtype=bool)
         self.at_limit = np.zeros(shape, dtype=bool)
+        #: Reaction torque of the stops holding joints at the start of the last step.
+        self.limit_torque = np.zeros(shape)
+        self._on_stop = np.zeros(self.n_envs, dtype=bool)
+        self._scratch: Simulation | None = None  # resolves the steps that touch a stop
         self.effort = np.zeros(shape)
         self.effort_command = np.zeros(shape)
         self.qdd = np.zeros(shape)
@@ -148,6 +152,8 @@ class BatchSimulation:
         self.qd = qd_arr
         self.qdd = np.zeros_like(self.q)
         self.at_limit = (self.q <= self.robot.q_min) | (self.q >= self.robot.q_max)
+        self._on_stop = self.at_limit.any(axis=1)
+        self.limit_torque = np.zeros_like(self.q)
         self.stopped = [None] * self.n_envs
 
     def set_reference(self, q: ArrayLike | None = None, qd: ArrayLike | None = None, qdd: ArrayLike | None = None) -> None:
@@ -215,20 +221,20 @@ class BatchSimulation:
             failed = active & (result.status == status)
             self._stop(np.flatnonzero(failed), lambda i, why=why: why)
             active &= ~failed
-        q1, qd1 = result.q, result.qd
+        q1, qd1, qdd1 = result.q, result.qd, result.qdd
+        if self._limit_position:  # as in Simulation: through the stops, then velocity limits
+            active = self._through_stops(active, q, qd, tau, q1, qd1, qdd1)
         velocity_limited = self.velocity_limited
         if self._limit_velocity:
             velocity_limited = np.abs(qd1) > self.velocity_limit
             qd1 = np.clip(qd1, -self.velocity_limit, self.velocity_limit)
-        if self._limit_position:  # as in Simulation, before the test for divergence
-            self.at_limit = np.where(active[:, None], self._hard_stops(q1, qd1, active), self.at_limit)
         diverged = active & ~(_row_finite(q1) & _row_finite(qd1))
         self._stop(np.flatnonzero(diverged), lambda i: "the joint state became non-finite")
         ok = active & ~diverged
         rows = ok[:, None]
         self.q = np.where(rows, q1, q)
         self.qd = np.where(rows, qd1, qd)
-        self.qdd = np.where(rows, result.qdd, self.qdd)
+        self.qdd = np.where(rows, qdd1, self.qdd)
         self.effort_command = np.where(rows, command, self.effort_command)
         self.effort = np.where(rows, tau, self.effort)
         self.saturated = np.where(rows, saturated, self.saturated)
@@ -236,16 +242,40 @@ class BatchSimulation:
         self.time[ok] += self.dt
         self.steps[ok] += 1
 
-    def _hard_stops(self, q: FloatArray, qd: FloatArray, active: NDArray[np.bool_]) -> NDArray[np.bool_]:
-        """Clip q (in place) into the limits, zero the velocity into a limit, record the
-        arrivals of the active environments; the new at-limit flags."""
+    def _through_stops(
+        self,
+        active: NDArray[np.bool_],
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        q1: FloatArray,
+        qd1: FloatArray,
+        qdd1: FloatArray,
+    ) -> NDArray[np.bool_]:
+        """The environments whose step touches a stop (they start on one, or the free
+        step (q1, qd1, qdd1) crossed a limit) redone, in place, by
+        ``Simulation.step_through_stops`` (the same code, so bit for bit a Simulation);
+        their arrivals, reactions and at-limit flags recorded; the environments still
+        running returned (one the stops cannot resolve stops alone)."""
         lo, hi = self.robot.q_min, self.robot.q_max
-        below, above = q <= lo, q >= hi
-        np.clip(q, lo, hi, out=q)
-        qd[below & (qd < 0)] = 0.0
-        qd[above & (qd > 0)] = 0.0
-        at_limit = below | above
-        for i, j in zip(*np.nonzero(at_limit & ~self.at_limit & active[:, None])):
-            side = "min" if below[i, j] else "max"
-            self.events.append((int(i), LimitEvent(self.time[i] + self.dt, int(j), side, float(q[i, j]))))
-        return at_limit
+        crossed = ((q1 < lo) | (q1 > hi)).any(axis=1)
+        touched = active & (self._on_stop | crossed)
+        if not touched.any():
+            return active
+        if self._scratch is None:
+            self._scratch = Simulation(self.robot, dt=self.dt, integrator=self.integrator)
+        active = active.copy()
+        for i in np.flatnonzero(touched):
+            trial = (q1[i], qd1[i], qdd1[i]) if not self._on_stop[i] else None
+            out = self._scratch.step_through_stops(float(self.time[i]), q[i], qd[i], tau[i], trial)
+            if isinstance(out, str):
+                self._stop([i], lambda _, why=out: why)
+                active[i] = False
+                continue
+            q1[i], qd1[i], start_qdd, self.limit_torque[i], events = out
+            if start_qdd is not None:
+                qdd1[i] = start_qdd
+            self.events.extend((int(i), event) for event in events)
+            self.at_limit[i] = (q1[i] == lo) | (q1[i] == hi)
+        self._on_stop = self.at_limit.any(axis=1)
+        return active

@@ -422,6 +422,31 @@ class Simulation:
         """True if some joint is beyond a limit."""
         return bool(((q < self.robot.q_min) | (q > self.robot.q_max)).any())
 
+    def step_through_stops(
+        self,
+        time: float,
+        q: FloatArray,
+        qd: FloatArray,
+        tau: FloatArray,
+        trial: tuple[FloatArray, FloatArray, FloatArray] | None = None,
+    ) -> tuple[FloatArray, FloatArray, FloatArray | None, FloatArray, list[LimitEvent]] | str:
+        """One step of this simulation's robot, dt and integrator from (q, qd) at simulated
+        ``time`` with effort ``tau`` (no pull), for a step that touches stops: ``trial``,
+        the free step's (q, qd, q̈) when it crossed a limit, or None when the step starts
+        on a stop.  Returns (q, qd, q̈ at the start or None to keep the trial's, stop
+        reactions, arrivals) — what :meth:`step` does there, for ``BatchSimulation``'s
+        environments that touch a stop — or the reason the step cannot be taken.  The
+        simulation's own state is not changed."""
+        saved = self.time
+        self.time = time
+        try:
+            q1, qd1, qdd, reaction, events = self._through_stops(q, qd, tau, None, trial)
+        except (_Diverged, np.linalg.LinAlgError) as exc:
+            return str(exc)
+        finally:
+            self.time = saved
+        return q1, qd1, None if trial is not None else qdd, reaction, events
+
     def _through_stops(
         self,
         q: FloatArray,
