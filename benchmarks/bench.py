@@ -41,6 +41,7 @@ from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
 from robot_sim.model.state import RobotState  # noqa: E402
 import bench_sim  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
+from bench_collision import bench_collision  # noqa: E402
 from timing import Table, measure, median_iqr, ms, us  # noqa: E402
 
 ROBOT = "humanoid7"
@@ -288,6 +289,7 @@ def main() -> None:
     bench_ik(table, ik_robots, rng)
     bench_trajectory(table, load_robot("ur5"), rng, measure, median_iqr, ms, us)
     bench_sim.bench_simulation(table, measure, median_iqr, us)
+    bench_collision(table, measure, median_iqr, us)
     if not args.skip_render:
         bench_render(table, robot)
         bench_screenshot(table)
