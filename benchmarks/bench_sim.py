@@ -105,7 +105,7 @@ def bench_sweep(table: Any, seconds: Callable[[float], str]) -> None:
         return
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
-        sweep(robot, {"kp": [100.0, 200.0]}, "ct", duration=0.01, client=client)  # workers warm (imports, kernels)
+        sweep(robot, {"kp": [100.0, 200.0]}, "ct", duration=0.01, chunk_size=1, client=client)  # both workers warm
         start = time.perf_counter()
         remote = sweep(robot, grid, "ct", duration=SWEEP_DURATION, client=client)
         wall = time.perf_counter() - start
