@@ -889,6 +889,16 @@ def constrained_forward_dynamics(
             f"held must be a bool array of shape ({n},) or of the shape of q, {np.shape(q)}, "
             f"got {mask.dtype} of shape {mask.shape}"
         )
+    if single:  # plain (n, n) algebra: a batch of one costs far more in NumPy's stacked calls
+        M1 = mass_matrix(robot, Q[0])
+        rhs1 = TAU[0] - bias_torque(robot, Q[0], QD[0], gravity, f_tool)
+        A1 = M1.copy()
+        A1[mask] = 0.0
+        A1[:, mask] = 0.0
+        A1[mask, mask] = 1.0
+        qdd1 = np.linalg.solve(A1, np.where(mask, 0.0, rhs1))
+        qdd1[mask] = 0.0
+        return qdd1, (M1 @ qdd1 - rhs1) * mask
     H = np.broadcast_to(mask, Q.shape)
     M = mass_matrix(robot, Q)
     rhs = TAU - bias_torque(robot, Q, QD, gravity, f_tool)
@@ -896,7 +906,7 @@ def constrained_forward_dynamics(
     A[:, np.arange(n), np.arange(n)] += H
     qdd = np.where(H, 0.0, np.linalg.solve(A, np.where(H, 0.0, rhs)[..., None])[..., 0])
     reaction = np.where(H, np.einsum("nij,nj->ni", M, qdd) - rhs, 0.0)
-    return (qdd[0], reaction[0]) if single else (qdd, reaction)
+    return qdd, reaction
 
 
 def _link_jacobians(robot: RobotParams, Q: FloatArray, QD: FloatArray) -> dict[str, FloatArray]:
