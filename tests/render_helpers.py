@@ -23,7 +23,7 @@ from robot_sim.transforms import HomogeneousTransform  # noqa: E402
 W, H = 320, 240
 DEG = math.pi / 180.0
 R_, P_ = JTYPE_REVOLUTE, JTYPE_PRISMATIC
-BACKGROUND_PX = np.round(255.0 * np.asarray(gd.BACKGROUND_COLOR[:3])).astype(int)
+BACKGROUND_PX = np.round(255.0 * np.asarray(go.THEMES["dark"].background[:3])).astype(int)
 MAGENTA = (1.0, 0.0, 1.0, 1.0)
 
 
@@ -87,8 +87,11 @@ def key_points(kin: Kinematics) -> np.ndarray:
 
 
 def framed(points: np.ndarray, **camera_args: float) -> go.Camera:
+    """A camera framing ``points`` (frame origins, mostly) with room for the parts drawn
+    around them: ``fit`` fills 70 % of the picture with the points alone."""
     camera = go.Camera(**camera_args)
     camera.fit(points)
+    camera.zoom(1.3)
     return camera
 
 

@@ -9,7 +9,7 @@ import pytest
 from robot_sim.graphics import defs as gd
 from robot_sim import graphics as go
 from robot_sim.viewer import recording
-from robot_sim.graphics.items.task import gripper_placements
+from robot_sim.graphics.task_scene import gripper_placements
 from kin_helpers import robot
 from robot_sim.planning.pick_task import default_plan
 from cli_helpers import assert_one_line_error, read_png, run
@@ -183,7 +183,8 @@ def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
     """While the task's gripper replaces the arm's endeffector sphere, a ghost in another
     pose draws all its parts except its own sphere (it used to be compared with the arm's
     shorter part list, out of step, and lose parts)."""
-    from robot_sim.graphics import render as _gfx_render
+    from robot_sim.graphics.items.ghost import GhostItem
+    from robot_sim.graphics.items.robot import posed_parts
     from robot_sim.kinematics import Kinematics
     from robot_sim.model.state import RobotState
 
@@ -195,6 +196,6 @@ def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
     scene = session.scene()
     assert scene.task is not None
     renderer.render(session.camera, go.Scene(session.kin, ghost=ghost_kin, task=scene.task), session.options)
-    ghost = _gfx_render.robot_item(ghost_kin, ghost=True)
-    expected = [(p.mesh, p.color) for p in ghost.posed_parts() if p.color != gd.ENDEFF_COLOR]
-    assert [(p.mesh, p.color) for p in ghost.parts()] == expected
+    ghost = renderer.view.item(GhostItem)
+    expected = [(p.mesh, p.color) for p in posed_parts(ghost_kin, "dh", False) if p.color != gd.ENDEFF_COLOR]
+    assert [(p.mesh, p.color) for p in ghost.parts] == expected

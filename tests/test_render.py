@@ -1,7 +1,7 @@
 """Pixels of the offscreen renderer (OSMesa): parts land where ``Camera.project`` says.
 
 Every expected position comes from forward kinematics and ``Camera.project`` (the matrices
-``render_scene`` loads), every expected colour from ``graphics_defs``.  Lighting changes
+the render path loads), every expected colour from ``graphics_defs``.  Lighting changes
 the exact values, so colours are compared by which channels dominate, not by value.
 "Robot pixels" are pixels that differ from a reference render of the same scene with the
 robot moved a kilometre below the ground (past the far plane; the ground, which follows
@@ -91,6 +91,9 @@ def test_wireframe_draws_fewer_robot_pixels_inside_the_solid_silhouette(render: 
     camera = framed(key_points(kin))
     camera.target, camera.distance = 0.5 * (start + end), 0.4  # the first link fills the view
     options = options_for(kin)
+    # pixel counts of exact coverage: anti-aliasing would smear the lines' edges, and the
+    # shadow on the floor would show between them
+    options.samples, options.shadows = 0, False
     solid, empty = render.pair(camera, kin, options)
     assert options.toggle_wireframe() is True
     wire = render(camera, go.Scene(kin), options)
@@ -168,6 +171,7 @@ def test_translucent_robot_mixes_link_and_ground(render: Frames) -> None:
     kin = posed("planar3")
     camera = framed(key_points(kin))
     options = options_for(kin)
+    options.shadows = False  # the arm lies on the floor: its shadow would darken the ground it is mixed with
     opaque, empty = render.pair(camera, kin, options)
     assert options.toggle_alpha() == pytest.approx(gd.TRANSLUCENT_ALPHA)
     translucent = render(camera, go.Scene(kin), options)
@@ -399,8 +403,9 @@ def test_large_workspace_cloud_renders(render: Frames) -> None:
     camera = framed(key_points(kin))
     options = options_for(kin)
     options.show_workspace = True
+    options.samples = 0  # exact colours: anti-aliasing mixes the points' edges with what is behind
     plain = render(camera, go.Scene(kin), options)
-    for _ in range(3):  # drawn, drawn and kept, reused
+    for _ in range(3):  # drawn three times: the same buffer, uploaded once
         shown = render(camera, go.Scene(kin, workspace=cloud), options)
     changed = robot_mask(shown, plain, tol=0)
     assert changed.mean() > 0.3, f"a 200 000-point cloud changed only {changed.mean():.1%} of the frame"
@@ -539,7 +544,7 @@ def test_save_png_unwritable_path_names_it(render: Frames, tmp_path: Path) -> No
 def test_projection_agrees_with_the_rendered_ground(render: Frames) -> None:
     kin = posed("planar3")
     empty_kin = sunk(kin)
-    ground = go.GroundGraphics.for_reach(go.robot_reach(kin.robot), kin.h_tf[0].t()[:2])
+    ground = go.FloorGrid.for_reach(go.robot_reach(kin.robot), kin.h_tf[0].t()[:2])
     h = ground.half_extent
     corners = np.array([[sx * h, sy * h, 0.0] for sx in (-1, 1) for sy in (-1, 1)])
     camera = framed(corners, azimuth_deg=30.0, elevation_deg=40.0)
@@ -554,13 +559,14 @@ def test_projection_agrees_with_the_rendered_ground(render: Frames) -> None:
 
     origin_xy = project(camera, [0.0, 0.0, 0.0])[0]
     assert is_ground(origin_xy), f"world origin projects to {origin_xy.round(1)}: {pixel(image, origin_xy)}"
-    for corner, inside, outside in zip(corners, project(camera, 0.95 * corners), project(camera, 1.05 * corners)):
+    solid = 0.95 * gd.FLOOR_FADE_START  # the floor fades out from there to its edge
+    for corner, inside, outside in zip(corners, project(camera, solid * corners), project(camera, 1.05 * corners)):
         assert is_ground(inside), f"inside corner {corner}: {inside.round(1)} is {pixel(image, inside)}"
         if 1 <= outside[0] < W - 1 and 1 <= outside[1] < H - 1:
             assert is_background(outside), f"outside corner {corner}: {outside.round(1)} is {pixel(image, outside)}"
-    # The ground's far edge: the midpoints of its four sides land on ground just inside.
+    # Towards the far edge: the midpoints of its four sides land on ground inside the fade.
     for mid in ([h, 0, 0], [-h, 0, 0], [0, h, 0], [0, -h, 0]):
-        assert is_ground(project(camera, 0.95 * np.asarray(mid, dtype=float))[0]), f"side midpoint {mid}"
+        assert is_ground(project(camera, solid * np.asarray(mid, dtype=float))[0]), f"side midpoint {mid}"
 
 
 def test_points_behind_the_eye_project_to_nan() -> None:

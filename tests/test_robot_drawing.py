@@ -18,6 +18,7 @@ from robot_sim import graphics as go
 go.require_osmesa_platform()
 
 from robot_sim.graphics import defs as gd  # noqa: E402
+from robot_sim.graphics.items.text import spread  # noqa: E402
 from robot_sim.kinematics import forward_kinematics  # noqa: E402
 from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
@@ -286,9 +287,9 @@ def white_mask(image: np.ndarray) -> np.ndarray:
     return np.all(image[..., :3] >= 235, axis=-1)
 
 
-def label_box(camera: go.Camera, anchor: np.ndarray, text: str) -> tuple[slice, slice]:
-    """Image rows and columns where ``text`` anchored at world ``anchor`` is written."""
-    x, y = project(camera, anchor)[0]
+def label_box(xy: np.ndarray, text: str) -> tuple[slice, slice]:
+    """Image rows and columns where ``text`` anchored at pixel ``xy`` is written."""
+    x, y = xy
     w, h = go.text_size(text)
     dx, dy = gd.LABEL_OFFSET_PX
     left, bottom = int(round(x)) + dx, int(round(y)) - dy
@@ -308,12 +309,14 @@ def test_frame_labels_are_written_next_to_each_drawn_frame(render: Frames) -> No
     labelled = render(camera, go.Scene(kin), options)
     options.show_labels = False
     plain = render(camera, go.Scene(kin), options)
-    labels = go.frame_labels(frames, names, go.AxesGraphics(go.robot_look(kin.robot).frame_length, frames).lengths())
+    labels = go.frame_labels(frames, names, go.axis_lengths(frames, go.robot_look(kin.robot).frame_length))
     texts = [text for _, text in labels]
     assert texts == ["0,1", "2", "3,E"]  # frame 1 sits on frame 0 (d1 = 0), no tool offset
     new = white_mask(labelled) & ~white_mask(plain)
-    for anchor, text in labels:
-        rows, cols = label_box(camera, anchor, text)
+    # where the labels go: at their anchors' pixels, moved down where they would overlap
+    pixels = spread(project(camera, np.array([anchor for anchor, _ in labels])), [go.text_size(t) for t in texts])
+    for (anchor, text), xy in zip(labels, pixels):
+        rows, cols = label_box(xy, text)
         assert new[rows, cols].sum() >= 8 * len(text), f"label {text!r} not written at {project(camera, anchor)[0].round(1)}"
     assert new.sum() <= sum(go.text_size(t)[0] * go.text_size(t)[1] for t in texts), "text outside the label boxes"
 
@@ -324,7 +327,7 @@ def test_coinciding_frames_do_not_share_surfaces() -> None:
     kin = posed("puma560", [0.0, 45 * DEG, -135 * DEG, 0.0, 45 * DEG, 0.0])
     frames = kin.frames[[3, 4, 5, 6]]
     np.testing.assert_allclose(frames[1:, :3, 3], frames[1:2, :3, 3].repeat(3, 0), atol=1e-12)
-    lengths = go.AxesGraphics(1.0, frames).lengths()
+    lengths = go.axis_lengths(frames, 1.0)
     assert lengths[0] == lengths[1] == 1.0 and lengths[1] < lengths[2] < lengths[3]
 
 

@@ -269,7 +269,7 @@ def test_top_view_and_orthographic_toggle(app: Any, planar: Any) -> None:
 def test_grid_scale_is_shown(app: Any, planar: Any) -> None:
     from robot_sim import graphics as go
 
-    step = go.GroundGraphics.for_reach(go.robot_reach(planar.session.robot)).step
+    step = go.FloorGrid.for_reach(go.robot_reach(planar.session.robot)).step
     assert planar.view.info.status_text().startswith(f"grid {step:g} m")
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from robot_sim.graphics import defs as gd
+from robot_sim.graphics.themes import THEMES
 from robot_sim.app import cli
 import simulator
 
@@ -96,11 +97,11 @@ def dominant(pixels: np.ndarray, channel: int) -> int:
 
 
 def robot_pixels(image: np.ndarray) -> int:
-    """Pixels that are neither background (BACKGROUND_COLOR) nor floor: the colours making
+    """Pixels that are neither background (the dark theme's) nor floor: the colours making
     up at least 10 % of the bottom rows (a close-up's link may reach the top rows of a
     wide view; grid lines, shaded like the links, count as non-floor in both pictures)."""
     rgb = image[..., :3].astype(int)
-    background = np.round(255 * np.asarray(gd.BACKGROUND_COLOR[:3])).astype(int)
+    background = np.round(255 * np.asarray(THEMES["dark"].background[:3])).astype(int)
     colours, counts = np.unique(rgb[-4:].reshape(-1, 3), axis=0, return_counts=True)
     palette = np.concatenate([background[None], colours[counts >= 0.1 * counts.sum()]])
     distance = np.abs(rgb[:, :, None, :] - palette[None, None, :, :]).max(axis=-1).min(axis=-1)

@@ -100,23 +100,33 @@ class Camera:
         self.target = self.target + scale * (-dx_px * right + dy_px * up)
 
     def fit(self, points: ArrayLike, aspect: float = 1.0) -> None:
-        """Aim at the centre of the bounding box of ``points`` (N, 3) (world, metres) and
-        set the distance so the sphere around them fits the field of view of a viewport
-        ``aspect`` = width / height: the vertical one, or the horizontal one when the
-        viewport is taller than wide.  Non-finite rows are ignored; with no finite point
+        """Aim at and step back from ``points`` (N, 3) (world, metres), keeping the view
+        direction, so that they fill ``CAMERA_FIT_FILL`` of a viewport ``aspect`` = width /
+        height: their projection's wider side (relative to the viewport's) spans that
+        fraction of it, centred.  Non-finite rows are ignored; with no finite point
         nothing changes."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         pts = pts[np.all(np.isfinite(pts), axis=1)]
         if len(pts) == 0:
             return
-        centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
-        radius = max(float(np.max(np.linalg.norm(pts - centre, axis=1))), gd.CAMERA_FIT_MIN_RADIUS)
-        half_fov = math.radians(self.fov_deg) / 2.0
-        half_fov = min(half_fov, math.atan(math.tan(half_fov) * max(aspect, 1e-3)))
-        self.target = centre
-        self.distance = float(
-            np.clip(gd.CAMERA_FIT_MARGIN * radius / math.sin(half_fov), gd.CAMERA_MIN_DISTANCE, gd.CAMERA_MAX_DISTANCE)
-        )
+        tan_y = math.tan(math.radians(self.fov_deg) / 2.0)
+        limit = gd.CAMERA_FIT_FILL * np.array([tan_y * max(aspect, 1e-3), tan_y])  # |x|, |y| / depth allowed
+        right, up = self.view_plane_axes()
+        back = np.cross(right, up)
+        target = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+        for step in range(gd.CAMERA_FIT_STEPS):  # the distance for the extent, then centre the projection
+            rel = pts - target
+            across = np.stack([rel @ right, rel @ up], axis=1)  # metres in the view plane
+            toward = np.zeros(len(pts)) if self.orthographic else rel @ back  # metres towards the eye
+            distance = max(float(np.max(toward[:, None] + np.abs(across) / limit)),
+                           gd.CAMERA_FIT_MIN_RADIUS / limit[1])
+            if step == gd.CAMERA_FIT_STEPS - 1:
+                break
+            ndc = across / (distance - toward)[:, None] / limit  # -1..1 spans the wanted fraction
+            middle = 0.5 * (ndc.min(axis=0) + ndc.max(axis=0))
+            target = target + (middle * limit * distance) @ np.stack([right, up])
+        self.target = target
+        self.distance = float(np.clip(distance, gd.CAMERA_MIN_DISTANCE, gd.CAMERA_MAX_DISTANCE))
 
     def view_matrix(self) -> NDArray[np.float64]:
         """World -> eye transform (4, 4) (OpenGL eye space: x right, y up, looking down -z)."""
@@ -159,7 +169,7 @@ class Camera:
 
         x grows to the right, y downwards from the top row; integer values are pixel
         centres, so ``image[round(y), round(x)]`` is the pixel a point lands on.  Uses the
-        same matrices as :func:`render_scene`.  Points behind the eye give NaN.
+        same matrices as the render path (``render.View``).  Points behind the eye give NaN.
         """
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         clip = np.c_[pts, np.ones(len(pts))] @ (self.projection_matrix(width / height) @ self.view_matrix()).T

@@ -4,10 +4,9 @@ Data only, no logic.  Colours are RGBA tuples of floats in [0, 1].  Robot part
 sizes follow each link's own dimensions within fractions of the robot's *reach*
 (the sum of its DH link lengths and offsets, see ``robot_sim.graphics.robot_reach``),
 so a 3 cm arm and a 3 m arm look alike on screen; other lengths are in metres.
+The colours of the world around the robot (background, floor, labels) are the
+themes' (``themes.THEMES``).
 """
-
-# --- window background --------------------------------------------------------
-BACKGROUND_COLOR = (0.16, 0.18, 0.22, 1.0)
 
 # --- tessellation of the unit meshes (built once per GL context) --------------
 CYLINDER_SLICES = 16          # segments around a cylinder, disk or cone
@@ -42,18 +41,28 @@ PRISMATIC_ROD_RATIO = 0.55       # sliding rod radius / the joint radius
 UNLIMITED_STROKE_FRAC = 0.25     # drawn stroke of an unlimited prismatic joint, fraction of the reach
 BASE_PLATE_RATIO = 1.8           # base plate radius / the first joint's radius
 BASE_PLATE_THICKNESS_RATIO = 0.3  # base plate thickness / its radius
+PEDESTAL_RADIUS_RATIO = 0.8      # column under a raised base / the base plate radius
 MIN_LINK_LENGTH = 1e-6        # metres; shorter links and tool segments are not drawn
 
 # --- robot colours ---------------------------------------------------------------
 LINK_COLOR = (0.80, 0.80, 0.82, 1.0)      # light grey
-JOINT_COLOR = (0.30, 0.30, 0.33, 1.0)     # dark grey
-BASE_COLOR = (0.45, 0.45, 0.48, 1.0)      # mid grey: base plate and the line down to the floor
+JOINT_COLOR = (0.40, 0.41, 0.44, 1.0)     # dark grey (light enough to read on the dark floor)
+BASE_COLOR = (0.52, 0.53, 0.56, 1.0)      # mid grey: the base plate
 ENDEFF_COLOR = (0.90, 0.08, 0.08, 1.0)    # red
 COM_COLOR = (0.10, 0.25, 0.95, 1.0)       # blue
 TRANSLUCENT_ALPHA = 0.35                  # robot alpha when transparency is on
 GHOST_COLOR = (0.30, 0.85, 1.00, 0.40)    # desired state, drawn translucent where it differs
 GHOST_TOLERANCE = 1e-6                    # metres: ghost parts closer than this to the arm's are not drawn
 GHOST_POLYGON_OFFSET = (1.0, 4.0)         # pushes the ghost behind an arm surface it touches
+PEDESTAL_COLOR = (0.60, 0.62, 0.66, 0.30)  # the column under a raised base: see-through
+
+# --- looks of the robot (visuals.LOOKS) ----------------------------------------------
+SOLID_LINK_RATIO = 0.8                 # solid look: capsule radius / the smaller joint radius at its ends
+SOLID_HOUSING_RATIO = 1.08             # solid look: housing radius / the joint radius
+SOLID_LINK_COLOR = (0.86, 0.86, 0.84, 1.0)     # warm white, as industrial arms are painted
+SOLID_HOUSING_COLOR = (0.24, 0.26, 0.29, 1.0)  # dark grey
+VISUAL_COLOR = (0.78, 0.79, 0.81, 1.0)  # a visual shape without a colour of its own
+MESH_OVER_DH_ALPHA = 0.35               # look "both": the meshes' alpha over the DH segments
 
 # --- coordinate frames (RGB axes with cone tips) ---------------------------------
 FRAME_LENGTH_FRAC = 0.16      # axis length, fraction of the reach
@@ -65,11 +74,9 @@ FRAME_STACK_THINNING = 0.2       # ... and 1 - k * this thinner, so its tips sho
 FRAME_STACK_RADIUS_STEPS = (1.0, 0.94, 0.88)  # shaft radius factors cycled over frames: no shared surfaces
 FRAME_LABEL_FRAC = 0.3           # label anchor: this fraction of the axis length between x and y
 
-# --- labels (bitmap text, the same in the window and offscreen) ----------------
-LABEL_PIXEL_SCALE = 2         # 5 x 7 glyphs drawn this many pixels per font pixel
+# --- labels (font.py: vector font through FreeType, the same in the window and offscreen)
 LABEL_OFFSET_PX = (4, 4)      # text starts this far right of and above its anchor's pixel
-LABEL_COLOR = (1.0, 1.0, 1.0, 1.0)
-LABEL_SHADOW_COLOR = (0.0, 0.0, 0.0, 1.0)
+LABEL_GAP_PX = 2              # labels moved apart keep this many pixels between their boxes
 
 # --- DH parameter annotation of one joint (GraphicsOptions.annotate_joint) ---------
 ANNOTATION_OFFSET_FRAC = 0.35  # dimension lines this fraction of the frame axis length beside the segment
@@ -104,13 +111,11 @@ TARGET_MARKER_RADIUS_FRAC = 0.022   # fraction of the reach
 TARGET_COLOR = (1.00, 0.85, 0.00, 1.0)              # yellow: reachable
 TARGET_UNREACHABLE_COLOR = (1.00, 0.00, 0.85, 1.0)  # magenta: warning
 
-# --- floor and grid (z = 0 in the world): translucent, the arm passes through it ----
-GROUND_COLOR = (0.42, 0.44, 0.47, 0.35)  # the floor's alpha: parts below it show through
-GRID_COLOR = (0.62, 0.64, 0.68, 0.8)
+# --- floor and grid (z = 0 in the world, colours from the theme): translucent, the arm passes through it
 GROUND_EXTENT_FRAC = 1.5      # half side of the floor square, fraction of the reach
+FLOOR_FADE_START = 0.7        # the floor and its grid fade out from this fraction of the half side to the edge
 GRID_LINES_PER_HALF = 10      # about this many grid cells from the centre to an edge
 GRID_STEPS = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1.0, 2.0, 5.0)  # metres, first >= target used
-BASE_LINE_STIPPLE = (2, 0x0F0F)  # glLineStipple(factor, pattern) of the line from a raised base to the floor
 
 # --- workspace point cloud ---------------------------------------------------------
 WORKSPACE_POINT_SIZE = 2.0    # pixels
@@ -134,19 +139,21 @@ CAMERA_MAX_DISTANCE = 200.0   # metres
 CAMERA_NEAR_FRAC = 0.01       # near plane at this fraction of the distance
 CAMERA_FAR_FRAC = 20.0        # far plane at this multiple of the distance ...
 CAMERA_FAR_MARGIN = 10.0      # ... plus this many metres
-CAMERA_FIT_MARGIN = 1.15      # fit() leaves this much room around the points
+CAMERA_FIT_FILL = 0.7         # fit(): the points' projection spans this fraction of the picture
+CAMERA_FIT_STEPS = 3          # fit(): rounds of (distance for the extent, centre the projection)
 CAMERA_FIT_MIN_RADIUS = 0.002  # metres; fit() frames at least a sphere this big
 
-# --- lighting (fixed-function) ------------------------------------------------------
-# Light 0 is a headlight (eye space, shines along the view); light 1 is fixed in
-# the world, from above.  Positions are homogeneous with w = 0 (directional).
-HEADLIGHT_DIRECTION = (0.3, 0.4, 1.0, 0.0)
-HEADLIGHT_DIFFUSE = (0.65, 0.65, 0.65, 1.0)
-SKYLIGHT_DIRECTION = (0.2, -0.3, 1.0, 0.0)
-SKYLIGHT_DIFFUSE = (0.30, 0.30, 0.30, 1.0)
-AMBIENT_LIGHT = (0.30, 0.30, 0.30, 1.0)
-SPECULAR_COLOR = (0.25, 0.25, 0.25, 1.0)
-SHININESS = 32.0
+# --- lighting and shadows (shaders.py, lighting.py) -----------------------------------
+KEY_LIGHT_COLOR = (0.58, 0.58, 0.58)   # the key light (casts shadows), fixed in the world
+FILL_LIGHT_COLOR = (0.50, 0.50, 0.50)  # the fill light, following the camera
+SKY_AMBIENT = (0.37, 0.37, 0.37)       # hemisphere ambient: faces turned up ...
+GROUND_AMBIENT = (0.22, 0.22, 0.22)    # ... and faces turned down
+SPECULAR_STRENGTH = 0.35               # Blinn-Phong highlight of the key light
+SHININESS = 40.0                       # Blinn-Phong exponent
+SHADOW_MAP_SIZE = 1024                 # texels a side of the shadow map
+SHADOW_BIAS = 0.002                    # depth bias (light clip units / 2) against shadow acne
+SHADOW_POLYGON_OFFSET = (2.0, 4.0)     # glPolygonOffset(factor, units) of the shadow pass
+MSAA_SAMPLES = 4                       # multisample anti-aliasing (window and offscreen); 0: off
 
 # --- offscreen rendering --------------------------------------------------------------
 DEPTH_BUFFER_BITS = 24  # bits of depth buffer both hosts (OSMesa and the Qt widget) ask for

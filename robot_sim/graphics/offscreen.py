@@ -12,9 +12,8 @@ from numpy.typing import ArrayLike, NDArray
 from robot_sim.graphics import defs as gd
 from robot_sim.io.files import write_atomic
 from robot_sim.graphics.camera import Camera
-from robot_sim.graphics.gl import GL, context_key, require_osmesa_platform
-from robot_sim.graphics.render import render_scene
-from robot_sim.graphics.resources import forget_context
+from robot_sim.graphics.gl import GL, require_osmesa_platform
+from robot_sim.graphics.render import View
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 
 
@@ -22,7 +21,9 @@ class OffscreenRenderer:
     """An OSMesa context rendering ``width`` x ``height`` RGBA images without a display.
 
     Use as a context manager or call :meth:`close`.  Needs PyOpenGL on its OSMesa
-    platform (see :func:`require_osmesa_platform`, called here) and libOSMesa.
+    platform (see :func:`require_osmesa_platform`, called here) and libOSMesa.  Its
+    :class:`~robot_sim.graphics.render.View` (``self.view``) keeps the scene's items and
+    their GL objects from frame to frame.
     """
 
     def __init__(self, width: int, height: int) -> None:
@@ -47,7 +48,7 @@ class OffscreenRenderer:
             raise RuntimeError(f"{missing}: OSMesaCreateContextExt failed")
         self._buffer = np.zeros((self.height, self.width, 4), dtype=np.uint8)
         self._make_current()
-        self._key = context_key()
+        self.view = View()
 
     def _make_current(self) -> None:
         if self._context is None:
@@ -60,14 +61,15 @@ class OffscreenRenderer:
     def render(self, camera: Camera, scene: Scene, options: GraphicsOptions) -> NDArray[np.uint8]:
         """Render ``scene`` and return a copy of the image (H, W, 4) uint8 RGBA, row 0 at the top."""
         self._make_current()
-        render_scene(camera, scene, options, self.width, self.height)
+        self.view.render(camera, scene, options, self.width, self.height)
         GL.glFinish()
         return self._buffer.copy()
 
     def close(self) -> None:
         """Free the context and its GL objects; further render() calls raise."""
         if self._context is not None:
-            forget_context(self._key)
+            self._make_current()
+            self.view.release()
             self._osmesa.OSMesaDestroyContext(self._context)
             self._context = None
 

@@ -1,181 +1,207 @@
-"""The one render path of every host: :func:`render_scene` draws a Scene seen by a
-Camera with GraphicsOptions into the current GL context (Qt widget or OSMesa)."""
+"""The one render path of every host: a :class:`View` holds the scene's persistent items
+(``view.items``, in the manner of pyqtgraph's ``GLViewWidget.items``) and draws them
+seen by a camera into the current GL context, whether the Qt widget's or OSMesa's.
+
+A frame: every item reads the Scene and options (:meth:`Item.update`); the shadow
+casters are drawn into the shadow map when their shadow changed; then, into a
+multisampled target cleared to the theme's background, the opaque layer, the
+translucent layer, the overlay layer over a cleared depth buffer and the text layer;
+last the samples are resolved into the host's framebuffer.
+
+The default items are every ``ITEM`` declared by a module of
+:mod:`robot_sim.graphics.items`: adding a drawable is adding a file there.  A host may
+also append its own items to ``view.items``.
+"""
 from __future__ import annotations
 
-import weakref
+import importlib
+import pkgutil
+from typing import Iterable
 
 import numpy as np
-from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
+from robot_sim.graphics import items as items_package
 from robot_sim.graphics.camera import Camera
-from robot_sim.graphics.items.annotation import AnnotationGraphics, dh_annotation
-from robot_sim.graphics.items.drawables import (
-    AxesGraphics,
-    RobotGraphics,
-    TargetGraphics,
-    VectorGraphics,
-    frame_labels,
-    frame_poses,
-    frames_and_names,
-    ground_for,
-)
-from robot_sim.graphics.robot_parts import part_corners, robot_look, robot_parts, robot_reach
-from robot_sim.graphics.gl import GL, context_key, gl_matrix
-from robot_sim.graphics.items.trail import TrailGraphics
-from robot_sim.graphics.resources import resources
+from robot_sim.graphics.frame import SHADOW_UNIT, Drawing, Frame, Light, Resources
+from robot_sim.graphics.gl import GL, context_key
+from robot_sim.graphics.item import LAYERS, Item
+from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_sphere
 from robot_sim.graphics.scene import GraphicsOptions, Scene
-from robot_sim.graphics.items.task import TaskGraphics, task_points
-from robot_sim.graphics.items.text import TextGraphics
-from robot_sim.kinematics import Kinematics
-
-# The robot drawables of the Kinematics objects being shown (a viewer keeps one for the
-# current and one for the desired state); they go when their Kinematics goes.
-_ROBOT_ITEMS: weakref.WeakKeyDictionary[Kinematics, RobotGraphics] = weakref.WeakKeyDictionary()
+from robot_sim.graphics.targets import MultisampleTarget, ShadowTarget, max_samples
+from robot_sim.graphics.themes import Theme, theme
 
 
-_TEXT = TextGraphics()  # the labels of every frame (it keeps the font's display lists)
+def item_classes() -> list[type[Item]]:
+    """The ``ITEM`` of every module in :mod:`robot_sim.graphics.items`, by module name."""
+    found = []
+    for info in sorted(pkgutil.iter_modules(items_package.__path__), key=lambda m: m.name):
+        module = importlib.import_module(f"{items_package.__name__}.{info.name}")
+        item = getattr(module, "ITEM", None)
+        if item is not None:
+            found.append(item)
+    return found
 
 
-def robot_item(kinematics: Kinematics, ghost: bool = False) -> RobotGraphics:
-    """The persistent drawable of the robot posed by ``kinematics``."""
-    item = _ROBOT_ITEMS.get(kinematics)
-    if item is None or item.ghost != ghost:
-        item = _ROBOT_ITEMS[kinematics] = RobotGraphics(kinematics, ghost=ghost)
-    return item
-
-
-def _setup_lights(view: NDArray[np.float64]) -> None:
-    """Headlight fixed in eye space, sky light fixed in the world, colour material."""
-    GL.glMatrixMode(GL.GL_MODELVIEW)
-    GL.glLoadIdentity()
-    GL.glLightfv(GL.GL_LIGHT0, GL.GL_POSITION, gd.HEADLIGHT_DIRECTION)
-    GL.glLightfv(GL.GL_LIGHT0, GL.GL_DIFFUSE, gd.HEADLIGHT_DIFFUSE)
-    GL.glLightfv(GL.GL_LIGHT0, GL.GL_SPECULAR, gd.SPECULAR_COLOR)
-    GL.glLoadMatrixd(gl_matrix(view))
-    GL.glLightfv(GL.GL_LIGHT1, GL.GL_POSITION, gd.SKYLIGHT_DIRECTION)
-    GL.glLightfv(GL.GL_LIGHT1, GL.GL_DIFFUSE, gd.SKYLIGHT_DIFFUSE)
-    GL.glLightfv(GL.GL_LIGHT1, GL.GL_SPECULAR, (0.0, 0.0, 0.0, 1.0))
-    GL.glLightModelfv(GL.GL_LIGHT_MODEL_AMBIENT, gd.AMBIENT_LIGHT)
-    GL.glLightModeli(GL.GL_LIGHT_MODEL_TWO_SIDE, GL.GL_TRUE)
-    for cap in (GL.GL_LIGHT0, GL.GL_LIGHT1, GL.GL_COLOR_MATERIAL, GL.GL_NORMALIZE):
-        GL.glEnable(cap)
-    GL.glColorMaterial(GL.GL_FRONT_AND_BACK, GL.GL_AMBIENT_AND_DIFFUSE)
-    GL.glMaterialfv(GL.GL_FRONT_AND_BACK, GL.GL_SPECULAR, gd.SPECULAR_COLOR)
-    GL.glMaterialf(GL.GL_FRONT_AND_BACK, GL.GL_SHININESS, gd.SHININESS)
-
-
-def render_scene(camera: Camera, scene: Scene, options: GraphicsOptions, width: int, height: int) -> None:
-    """Draw ``scene`` seen by ``camera`` into the current GL context's framebuffer,
-    ``width`` x ``height`` pixels.  The one render path of every host.
-
-    Order: clear; opaque pass (workspace cloud, robot when opaque); translucent pass
-    (the floor, the ghost where it differs from the robot, the robot when
-    ``options.alpha`` < 1), blended without depth writes; then, over a cleared depth buffer so nothing hides them, the annotations:
-    selected frames, the IK target and the vectors.  Raises RuntimeError when no GL
-    context is current.
-    """
-    width, height = max(int(width), 1), max(int(height), 1)
-    if context_key() == 0:
-        raise RuntimeError("render_scene: no current OpenGL context (the host failed to create or bind one)")
-    resources().free_dead()
-    kin = scene.kinematics
-    reach = robot_reach(kin.robot)
-
-    GL.glViewport(0, 0, width, height)
-    GL.glClearColor(*gd.BACKGROUND_COLOR)
-    GL.glDepthMask(GL.GL_TRUE)
-    GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
-    GL.glMatrixMode(GL.GL_PROJECTION)
-    GL.glLoadMatrixd(gl_matrix(camera.projection_matrix(width / height)))
-    _setup_lights(camera.view_matrix())
+def _layer_state(layer: str) -> None:
+    """GL state of a layer (set at its start)."""
+    GL.glEnable(GL.GL_DEPTH_TEST)
     GL.glDepthFunc(GL.GL_LEQUAL)
     GL.glDisable(GL.GL_CULL_FACE)
-
-    cloud = scene.workspace if options.show_workspace else None
-    cloud_drawn = cloud is not None and cloud.draw_from_picture(camera, width, height)
-    if cloud is not None and not cloud_drawn:
-        cloud.draw()
-    if scene.task is not None:
-        TaskGraphics(scene.task).draw()
-    robot = robot_item(kin)
-    robot.alpha, robot.wireframe, robot.show_com = float(options.alpha), options.wireframe, options.show_com
-    robot.endeff_marker = scene.task is None  # the gripper is the endeffector
-    if robot.gl_preset == "opaque":
-        robot.draw()
-    base_xy = kin.frames[0, :2, 3]
-    ground_for(reach, float(base_xy[0]), float(base_xy[1])).draw()
-    if scene.trail is not None:
-        TrailGraphics(scene.trail).draw()
-    if options.show_ghost and scene.ghost is not None:
-        ghost = robot_item(scene.ghost, ghost=True)
-        ghost.reference, ghost.wireframe, ghost.show_com = robot, options.wireframe, options.show_com
-        ghost.endeff_marker = robot.endeff_marker
-        ghost.draw()
-    if robot.gl_preset != "opaque":
-        robot.draw()
-
-    GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-    frames, names = frames_and_names(kin, options.show_frames, options.show_endeff_frame)
-    axes = AxesGraphics(robot.look.frame_length, frames)
-    axes.draw()
-    if options.show_target and scene.target_tf is not None:
-        TargetGraphics(reach, scene.target_tf, scene.target_reachable).draw()
-    if options.show_vectors:
-        VectorGraphics(reach, scene.vectors).draw()
-    labels = [(p, text, gd.LABEL_COLOR) for p, text in frame_labels(frames, names, axes.lengths())] if options.show_labels else []
-    joint = options.annotate_joint
-    if joint is not None and 1 <= joint <= kin.robot.n_dofs:  # a joint number left from another robot draws nothing
-        annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, robot.look.frame_length)
-        AnnotationGraphics(annotation).draw()
-        labels += annotation.labels
-    if labels:
-        _TEXT.labels = labels
-        _TEXT.place(camera.project(np.array([p for p, _, _ in labels]), width, height), height)
-        _TEXT.draw()
+    if layer == "opaque":
+        GL.glDisable(GL.GL_BLEND)
+        GL.glDepthMask(GL.GL_TRUE)
+        return
+    GL.glEnable(GL.GL_BLEND)  # colours blend; the framebuffer's alpha stays 1 (opaque pictures)
+    GL.glBlendFuncSeparate(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA, GL.GL_ZERO, GL.GL_ONE)
+    GL.glDepthMask(GL.GL_TRUE if layer == "overlay" else GL.GL_FALSE)
+    if layer == "text":
+        GL.glDisable(GL.GL_DEPTH_TEST)
 
 
-def annotation_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64] | None:
-    """World points (N, 3) of the DH annotation of ``options.annotate_joint`` (its lines,
-    its label anchors and the axis tips of the two frames it relates), or None when no
-    annotation is drawn.  For framing one joint's parameters (``fit``)."""
-    kin, joint = scene.kinematics, options.annotate_joint
-    if joint is None or not 1 <= joint <= kin.robot.n_dofs:
-        return None
-    look = robot_look(kin.robot)
-    annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, look.frame_length)
-    ends = kin.frames[joint - 1:joint + 1]
-    points = [line for line, _, _ in annotation.lines] + [anchor for anchor, _, _ in annotation.labels]
-    points += [ends[:, :3, 3]] + [ends[:, :3, 3] + look.frame_length * ends[:, :3, k] for k in range(3)]
-    return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])
+class View:
+    """The scene's items and the GL objects of the context they are drawn in.
 
+    ``items`` is the persistent, ordered list of drawables (default: :func:`item_classes`,
+    one instance each).  The view's GL objects live in one context at a time: when
+    :meth:`render` finds another context current (the Qt widget was re-created, a new
+    offscreen context), everything is rebuilt there.  Call :meth:`release` while the
+    context is current before destroying it.
+    """
 
-def visible_points(scene: Scene, options: GraphicsOptions) -> NDArray[np.float64]:
-    """World points (N, 3) that enclose what :func:`render_scene` draws for ``scene``
-    and ``options``: the corners of the robot's parts at its current pose, the point
-    of the floor under its base, the tips of the drawn frames' axes, the ghost (desired
-    state) when drawn, the IK target with its axes, the vectors, the workspace cloud, the
-    pick task's table and path and the DH annotation when shown.  For framing (``fit``)."""
-    kin = scene.kinematics
-    look = robot_look(kin.robot)
-    com = kin.link_com if options.show_com else None
-    parts = robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, com)
-    frames = frame_poses(kin, options.show_frames, options.show_endeff_frame)
-    points = [part_corners(parts), kin.frames[0, :3, 3] * (1.0, 1.0, 0.0), frames[:, :3, 3]]
-    if options.show_ghost and scene.ghost is not None:
-        ghost = scene.ghost
-        points.append(part_corners(robot_parts(ghost.robot, ghost.frames, ghost.endeff_tf.mat, None)))
-    points += [frames[:, :3, 3] + look.frame_length * frames[:, :3, k] for k in range(3)]
-    if options.show_target and scene.target_tf is not None:
-        target, length = scene.target_tf.mat, look.reach * gd.TARGET_FRAME_LENGTH_FRAC
-        points += [target[:3, 3]] + [target[:3, 3] + length * target[:3, k] for k in range(3)]
-    if options.show_vectors:
-        points += [np.asarray(origin, dtype=float) + np.asarray(vec, dtype=float) for origin, vec, _ in scene.vectors]
-    if options.show_workspace and scene.workspace is not None:
-        points.append(np.asarray(scene.workspace.points, dtype=float))
-    if scene.task is not None:
-        points.append(task_points(scene.task))
-    annotation = annotation_points(scene, options)
-    if annotation is not None:
-        points.append(annotation)
-    return np.vstack([np.asarray(p, dtype=float).reshape(-1, 3) for p in points])
+    def __init__(self, items: Iterable[Item] | None = None) -> None:
+        self.items: list[Item] = list(items) if items is not None else [cls() for cls in item_classes()]
+        self._context = 0
+        self._resources: Resources | None = None
+        self._msaa: MultisampleTarget | None = None
+        self._shadow = ShadowTarget(gd.SHADOW_MAP_SIZE)
+        self._shadow_state: object = None
+
+    def item(self, cls: type[Item]) -> Item:
+        """The first item of type ``cls`` (KeyError when there is none)."""
+        for item in self.items:
+            if isinstance(item, cls):
+                return item
+        raise KeyError(f"View: no item of type {cls.__name__}")
+
+    def _bind_context(self) -> Resources:
+        key = context_key()
+        if key == 0:
+            raise RuntimeError("View.render: no current OpenGL context (the host failed to create or bind one)")
+        # a context created at the address of a destroyed one holds none of our objects
+        if key != self._context or self._resources is None or not self._resources.valid():
+            self._forget()
+            self._context, self._resources = key, Resources()
+        return self._resources
+
+    def forget(self) -> None:
+        """Drop every GL handle without deleting it: the context they lived in is gone
+        (a host calls this when it is given a new context)."""
+        self._forget()
+        self._context = 0
+
+    def _forget(self) -> None:
+        """Drop every GL handle without deleting (the context they lived in is gone)."""
+        for item in self.items:
+            item.release(current=False)
+        if self._resources is not None:
+            self._resources.release(current=False)
+        self._resources, self._msaa, self._shadow_state = None, None, None
+        self._shadow = ShadowTarget(gd.SHADOW_MAP_SIZE)
+
+    def release(self) -> None:
+        """Delete every GL object of this view (its context must be current)."""
+        for item in self.items:
+            item.release(current=True)
+        if self._resources is not None:
+            self._resources.release(current=True)
+        if self._msaa is not None:
+            self._msaa.delete()
+        self._shadow.delete()
+        self._resources, self._msaa, self._shadow_state, self._context = None, None, None, 0
+
+    def _light(self, camera: Camera, options: GraphicsOptions, frame_items: list[Item]) -> Light:
+        key = key_light()
+        casters = [item for item in frame_items if item.casts_shadow]
+        bounds = [item.bounds() for item in casters]
+        points = np.vstack(bounds) if bounds else np.zeros((0, 3))
+        if not options.shadows or len(points) == 0:
+            return Light(key, fill_light(camera.azimuth_deg), np.eye(4), 1.0, False)
+        centre, radius = shadow_sphere(points, key)
+        light = Light(key, fill_light(camera.azimuth_deg), light_matrix(key, centre, radius),
+                      1.0 / self._shadow.size, True, centre, radius)
+        state = (light.matrix.tobytes(), tuple(item.shadow_key() for item in casters))
+        if state != self._shadow_state:
+            self._draw_shadow(light, casters)
+            self._shadow_state = state
+        return light
+
+    def _draw_shadow(self, light: Light, casters: list[Item]) -> None:
+        assert self._resources is not None
+        previous = self._shadow.begin()
+        GL.glEnable(GL.GL_DEPTH_TEST)
+        GL.glDepthFunc(GL.GL_LESS)
+        GL.glDisable(GL.GL_BLEND)
+        GL.glEnable(GL.GL_POLYGON_OFFSET_FILL)
+        GL.glPolygonOffset(*gd.SHADOW_POLYGON_OFFSET)
+        self._resources.programs["depth"].use().set("u_view_proj", light.matrix)
+        drawing = Drawing(self._resources)
+        for item in casters:
+            item.paint_depth(drawing)
+        GL.glDisable(GL.GL_POLYGON_OFFSET_FILL)
+        self._shadow.end(previous)
+
+    def render(self, camera: Camera, scene: Scene, options: GraphicsOptions, width: int, height: int) -> None:
+        """Draw ``scene`` seen by ``camera`` with ``options`` into the current context's
+        framebuffer (the one bound now), ``width`` x ``height`` pixels.  Raises
+        RuntimeError when no GL context is current, ValueError for an unknown theme
+        (before anything is drawn).  The host's framebuffer and vertex array stay bound
+        afterwards, whatever happens."""
+        width, height = max(int(width), 1), max(int(height), 1)
+        palette = theme(options.theme)
+        resources = self._bind_context()
+        host_vao = int(GL.glGetIntegerv(GL.GL_VERTEX_ARRAY_BINDING))
+        host_fbo = int(GL.glGetIntegerv(GL.GL_DRAW_FRAMEBUFFER_BINDING))
+        GL.glBindVertexArray(resources.vao)  # our attribute state, apart from the host's
+        try:
+            self._draw(camera, scene, options, width, height, palette, resources)
+        finally:
+            GL.glUseProgram(0)
+            GL.glBindBuffer(GL.GL_ARRAY_BUFFER, 0)
+            GL.glDepthMask(GL.GL_TRUE)
+            GL.glDisable(GL.GL_BLEND)
+            GL.glBindVertexArray(host_vao)
+            GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, host_fbo)
+
+    def _draw(self, camera: Camera, scene: Scene, options: GraphicsOptions, width: int, height: int,
+              palette: Theme, resources: Resources) -> None:
+        for item in self.items:
+            item.visible = True
+            item.update(scene, options)
+        shown = [item for item in self.items if item.visible]
+        light = self._light(camera, options, shown)
+        samples = min(int(options.samples), max_samples())
+        msaa = None
+        if samples > 1:
+            if self._msaa is None or self._msaa.samples != samples:
+                if self._msaa is not None:
+                    self._msaa.delete()
+                self._msaa = MultisampleTarget(samples)
+            msaa = self._msaa
+            msaa.begin(width, height)
+        GL.glViewport(0, 0, width, height)
+        GL.glClearColor(*palette.background)
+        GL.glDepthMask(GL.GL_TRUE)
+        GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
+        GL.glActiveTexture(GL.GL_TEXTURE0 + SHADOW_UNIT)
+        GL.glBindTexture(GL.GL_TEXTURE_2D, self._shadow.texture if light.shadows else 0)
+        GL.glActiveTexture(GL.GL_TEXTURE0)
+        frame = Frame(camera, options, width, height, palette, light, resources)
+        for layer in LAYERS:
+            _layer_state(layer)
+            if layer == "overlay":
+                GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
+            for item in sorted((i for i in shown if i.layer == layer), key=lambda i: i.order):
+                item.paint(frame)
+        if msaa is not None:
+            msaa.end()

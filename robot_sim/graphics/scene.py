@@ -9,12 +9,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.graphics import defs as gd
+from robot_sim.graphics.themes import DEFAULT_THEME
 from robot_sim.kinematics import Kinematics
 from robot_sim.transforms import HomogeneousTransform
 
 if TYPE_CHECKING:
-    from robot_sim.graphics.items.cloud import WorkspaceCloud
-    from robot_sim.graphics.items.task import TaskScene
+    from robot_sim.graphics.workspace import WorkspaceCloud
+    from robot_sim.graphics.task_scene import TaskScene
 
 RGBA = tuple[float, float, float, float]
 Vector = tuple[ArrayLike, ArrayLike, RGBA]  # (origin (3,), vector (3,), rgba) in the world
@@ -32,6 +33,11 @@ class GraphicsOptions:
     parameters between frames i−1 and i (standard: d_i along z_{i−1}, θ_i about z_{i−1},
     a_i along x_i, α_i about x_i; modified: a_{i−1}, α_{i−1}, θ_i, d_i), each labelled
     with its value; None draws none.
+
+    ``theme`` names the colours of the world (``themes.THEMES``: "dark", "light");
+    ``look`` how the robot is drawn (``looks.LOOKS``; None: its meshes if it has any,
+    else its DH segments); ``samples`` the multisample anti-aliasing (0 or 1: none);
+    ``shadows`` whether the key light casts shadows.
     """
 
     def __init__(self, n_frames: int) -> None:
@@ -50,6 +56,10 @@ class GraphicsOptions:
         # joint number i (1..n_dofs, the DH table's row i) whose DH parameters are drawn
         # as dimensions and arcs between frames i-1 and i, or None
         self.annotate_joint: int | None = None
+        self.theme: str = DEFAULT_THEME
+        self.look: str | None = None
+        self.samples: int = gd.MSAA_SAMPLES
+        self.shadows: bool = True
 
     @property
     def n_frames(self) -> int:
@@ -87,6 +97,12 @@ class GraphicsOptions:
         """Flip wireframe drawing of the robot; returns the new state."""
         self.wireframe = not self.wireframe
         return self.wireframe
+
+    def cycle_look(self, looks: tuple[str, ...], current: str) -> str:
+        """Switch to the look after ``current`` among ``looks`` (``looks.looks_of`` the
+        robot shown, ``current`` as ``looks.look_for`` resolved it); returns it."""
+        self.look = looks[(looks.index(current) + 1) % len(looks)] if current in looks else looks[0]
+        return self.look
 
     def toggle_alpha(self) -> float:
         """Switch the robot between opaque (1.0) and ``TRANSLUCENT_ALPHA``; returns the alpha."""

@@ -3,7 +3,7 @@ information in the GL view's corners (grid scale, projection, follow mode, and t
 legend of the workspace cloud).
 
 Both are Qt widgets painted with QPainter above the GL picture, so they share no GL state
-with ``render_scene``.
+with the render path (``graphics.View``).
 """
 from __future__ import annotations
 

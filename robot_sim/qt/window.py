@@ -8,7 +8,7 @@ The widgets the window is built from have their own modules: the joint panel
 PyQt5 is imported here, at the top, and this module is imported only when a window is
 opened (``simulator.launch``), so ``--screenshot`` never loads Qt.  The window shows a
 :class:`robot_sim.viewer.session.ViewerSession` and paints it with the one render path
-``robot_sim.graphics.render_scene``; keys are dispatched through ``KEY_BINDINGS``
+``robot_sim.graphics.View``; keys are dispatched through ``KEY_BINDINGS``
 (robot_sim.graphics.defs.py): one handler per action name, called with the row's argument.
 """
 from __future__ import annotations
@@ -117,9 +117,10 @@ class ColumnScroll(QtWidgets.QScrollArea):
 
 
 class GLView(QtWidgets.QOpenGLWidget):
-    """GL widget: paints the simulation with render_scene, turns the mouse into camera
-    and target moves, carries the view information overlay and measures the frame rate over actual
-    paints."""
+    """GL widget: paints the simulation with its :class:`graphics.View` (the scene's items
+    and their GL objects, released when Qt destroys the widget's context), turns the
+    mouse into camera and target moves, carries the view information overlay and
+    measures the frame rate over actual paints."""
 
     def __init__(self, window: "MainWindow") -> None:
         super().__init__(window)
@@ -133,6 +134,7 @@ class GLView(QtWidgets.QOpenGLWidget):
         self.paint_times: deque[float] = deque()
         self.drag_pos: QtCore.QPoint | None = None
         self.framed = False
+        self.scene_view = go.View()
         self.setFocusPolicy(Qt.StrongFocus)
         self.setMinimumSize(160, 120)
 
@@ -152,13 +154,25 @@ class GLView(QtWidgets.QOpenGLWidget):
         return qs.STATUS_FPS_FORMAT.format(fps=(len(self.paint_times) - 1) / span)
 
     @guarded
+    def initializeGL(self) -> None:
+        self.scene_view.forget()  # a new context: none of the view's objects are in it
+        self.context().aboutToBeDestroyed.connect(self.release_gl)
+
+    @guarded
+    def release_gl(self) -> None:
+        """Delete the view's GL objects while their context still exists."""
+        self.makeCurrent()
+        self.scene_view.release()
+        self.doneCurrent()
+
+    @guarded
     def paintGL(self) -> None:
         sim = self.window_.session
         width, height = self.pixel_size()
         scene = sim.scene()
         if self.window_.trail is not None:
             scene.trail = self.window_.trail.points()
-        go.render_scene(sim.camera, scene, sim.options, width, height)  # errors: @guarded
+        self.scene_view.render(sim.camera, scene, sim.options, width, height)  # errors: @guarded
         self.paint_times.append(time.monotonic())
         self.window_.refresh_status()
 
@@ -396,7 +410,7 @@ class MainWindow(QtWidgets.QMainWindow):
         cloud_range = None
         if cloud is not None and len(cloud.values):
             cloud_range = (float(np.min(cloud.values)), float(np.max(cloud.values)))
-        step = go.GroundGraphics.for_reach(go.robot_reach(session.robot)).step
+        step = go.FloorGrid.for_reach(go.robot_reach(session.robot)).step
         self.view.info.info = ViewInfo(step, session.camera.orthographic, self.following, cloud_range)
         self.view.info.update()
 

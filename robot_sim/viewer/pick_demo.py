@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from robot_sim.viewer import settings as vs
-from robot_sim.graphics.items.task import TaskScene
+from robot_sim.graphics.task_scene import TaskScene
 from robot_sim.planning.pick_task import SceneState, TaskPlan, default_plan, plan_pick
 from robot_sim.model.params import RobotParams
 from robot_sim.planning.task_file import GRIPPER_FINGER_LENGTH, load_task

@@ -21,9 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import GL, draw_arrays, set_color
-from robot_sim.graphics.resources import Drawable
-from robot_sim.graphics.robot_parts import dh_segments
+from robot_sim.graphics.frame import Frame
+from robot_sim.graphics.gl import GL
+from robot_sim.graphics.item import Item
+from robot_sim.graphics.robot_parts import dh_segments, robot_look
+from robot_sim.graphics.scene import GraphicsOptions, Scene
 
 RGBA = tuple[float, float, float, float]
 
@@ -123,23 +125,37 @@ def dh_annotation(frames: NDArray[np.float64], joint: int, modified: bool, scale
     return out
 
 
-class AnnotationGraphics(Drawable):
-    """The lines of an :class:`Annotation`, unlit, ``ANNOTATION_LINE_WIDTH`` pixels wide,
-    drawn over the scene (its labels go through the text drawable)."""
+class AnnotationItem(Item):
+    """The DH annotation of ``options.annotate_joint`` (a joint of the robot shown, else
+    nothing): its lines, unlit, ``ANNOTATION_LINE_WIDTH`` pixels wide (extension lines and
+    spokes dashed), drawn over the scene and the frames, and its labels (through the
+    text layer)."""
 
-    gl_preset = "overlay"
+    layer = "overlay"
+    order = 30.0
 
-    def __init__(self, annotation: Annotation) -> None:
+    def __init__(self) -> None:
         super().__init__()
-        self.annotation = annotation
+        self.annotation = Annotation()
 
-    def paint(self) -> None:
-        GL.glLineWidth(gd.ANNOTATION_LINE_WIDTH)
+    def update(self, scene: Scene, options: GraphicsOptions) -> None:
+        kin, joint = scene.kinematics, options.annotate_joint
+        self.visible = joint is not None and 1 <= joint <= kin.robot.n_dofs  # a joint left from another robot: none
+        if self.visible:
+            assert joint is not None
+            self.annotation = dh_annotation(kin.frames, joint, kin.robot.is_modified, robot_look(kin.robot).frame_length)
+
+    def paint(self, frame: Frame) -> None:
+        GL.glDisable(GL.GL_DEPTH_TEST)  # over the frames' axes too
         for points, rgba, dashed in self.annotation.lines:
             if dashed:
                 GL.glEnable(GL.GL_LINE_STIPPLE)
                 GL.glLineStipple(*gd.ANNOTATION_DASH)
-            else:
-                GL.glDisable(GL.GL_LINE_STIPPLE)
-            set_color(rgba)
-            draw_arrays(GL.GL_LINE_STRIP, points)
+            frame.lines(points, rgba, GL.GL_LINE_STRIP, gd.ANNOTATION_LINE_WIDTH)
+            GL.glDisable(GL.GL_LINE_STIPPLE)
+        GL.glEnable(GL.GL_DEPTH_TEST)
+        for anchor, text, rgba in self.annotation.labels:
+            frame.add_label(anchor, text, rgba)
+
+
+ITEM = AnnotationItem

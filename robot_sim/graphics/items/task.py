@@ -1,106 +1,52 @@
-"""The pick task's drawables: table, object, a two-finger gripper at the tool and the
-endeffector path.  :class:`TaskScene` is the plain data a host fills (world frame,
-metres); :class:`TaskGraphics` paints it (no Qt)."""
+"""The pick task's item: table, object and a two-finger gripper at the tool (lit,
+casting shadows) and the planned endeffector path (``task_scene`` has the geometry)."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
-from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import GL, call_list_at, client_arrays, disable_client_arrays, gl_state, set_color
-from robot_sim.graphics.resources import Drawable, resources
-
-FloatArray = NDArray[np.float64]
-
-
-@dataclass
-class TaskScene:
-    """What the task shows at one instant; poses (4, 4) in the world, lengths in metres.
-
-    ``table_top`` (3,) is the centre of the table's top face, ``table_size`` (3,) its
-    extent (the box hangs below the top).  ``object_shape`` "box" or "cylinder" (axis
-    along its z) of extent ``object_size`` (3,) centred at ``object_pose``.  The gripper
-    hangs at ``tool_pose``: fingers ``gripper_opening`` apart along the tool's y axis,
-    reaching from ``finger_length`` behind the tool point (palm) to just past it.
-    ``path`` (N, 3) is the endeffector path drawn as a line.
-    """
-
-    table_top: FloatArray
-    table_size: FloatArray
-    object_shape: str
-    object_size: FloatArray
-    object_pose: FloatArray
-    tool_pose: FloatArray
-    gripper_opening: float
-    finger_length: float
-    path: FloatArray = field(default_factory=lambda: np.zeros((0, 3)))
+from robot_sim.graphics.frame import Drawing, Frame
+from robot_sim.graphics.gl import GL
+from robot_sim.graphics.item import Item
+from robot_sim.graphics.scene import GraphicsOptions, Scene
+from robot_sim.graphics.task_scene import FloatArray, TaskScene, task_parts, task_points
 
 
-def _scaled(pose: FloatArray, centre: tuple[float, float, float], size: FloatArray) -> FloatArray:
-    """Placement of a unit mesh: ``pose`` · translate(centre) · scale(size)."""
-    local = np.diag([*np.asarray(size, dtype=float), 1.0])
-    local[:3, 3] = centre
-    return pose @ local
+class TaskItem(Item):
+    """``scene.task``: table, object and gripper, lit and casting shadows, and the planned
+    endeffector path as an unlit line."""
 
+    layer = "opaque"
+    order = 20.0
+    casts_shadow = True
 
-def table_placement(task: TaskScene) -> FloatArray:
-    """World placement (4, 4) of the unit box (centred, sides ±0.5) for the table."""
-    pose = np.eye(4)
-    pose[:3, 3] = task.table_top - [0.0, 0.0, task.table_size[2] / 2]
-    return _scaled(pose, (0.0, 0.0, 0.0), task.table_size)
-
-
-def gripper_placements(task: TaskScene) -> FloatArray:
-    """World placements (3, 4, 4) of the unit box for the palm and the two fingers."""
-    length, thick = task.finger_length, gd.GRIPPER_FINGER_THICKNESS_M
-    tip = gd.GRIPPER_FINGER_TIP_PAST_M
-    finger_size = np.array([gd.GRIPPER_FINGER_WIDTH_M, thick, length + tip])
-    z_mid = (tip - length) / 2
-    y_off = task.gripper_opening / 2 + thick / 2
-    palm_size = np.array([gd.GRIPPER_FINGER_WIDTH_M, task.gripper_opening + 2 * thick, gd.GRIPPER_PALM_THICKNESS_M])
-    return np.stack([
-        _scaled(task.tool_pose, (0.0, 0.0, -length - gd.GRIPPER_PALM_THICKNESS_M / 2), palm_size),
-        _scaled(task.tool_pose, (0.0, y_off, z_mid), finger_size),
-        _scaled(task.tool_pose, (0.0, -y_off, z_mid), finger_size),
-    ])
-
-
-def task_points(task: TaskScene) -> FloatArray:
-    """World points (M, 3) enclosing the task's drawing: table corners, object and path."""
-    half = np.asarray(task.table_size) / 2
-    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (0, -2)])
-    table = task.table_top + signs * half
-    return np.vstack([table, task.object_pose[None, :3, 3], task.tool_pose[None, :3, 3], task.path.reshape(-1, 3)])
-
-
-class TaskGraphics(Drawable):
-    """Table (box), object (box or closed cylinder), gripper (palm and two fingers, boxes)
-    and the endeffector path (an unlit line) of a :class:`TaskScene`."""
-
-    def __init__(self, task: TaskScene) -> None:
+    def __init__(self) -> None:
         super().__init__()
-        self.task = task
+        self.task: TaskScene | None = None
 
-    def paint(self) -> None:
-        task, lists = self.task, resources().lists
-        set_color(gd.TABLE_COLOR)
-        call_list_at(lists["box"], table_placement(task)[None])
-        set_color(gd.OBJECT_COLOR)
-        if task.object_shape == "cylinder":
-            size = task.object_size * [0.5, 0.5, 1.0]  # unit cylinder: radius 1, z from 0 to 1
-            call_list_at(lists["joint"], _scaled(task.object_pose, (0.0, 0.0, -task.object_size[2] / 2), size)[None])
-        else:
-            call_list_at(lists["box"], _scaled(task.object_pose, (0.0, 0.0, 0.0), task.object_size)[None])
-        set_color(gd.GRIPPER_COLOR)
-        call_list_at(lists["box"], gripper_placements(task))
+    def update(self, scene: Scene, options: GraphicsOptions) -> None:
+        self.task = scene.task
+        self.visible = scene.task is not None
+
+    def paint_depth(self, drawing: Drawing) -> None:
+        assert self.task is not None
+        for mesh, color, placements in task_parts(self.task):
+            drawing.instances(mesh, placements, color)
+
+    def paint(self, frame: Frame) -> None:
+        task = self.task
+        assert task is not None
+        frame.lit()
+        self.paint_depth(frame)
         if len(task.path) >= 2:
-            with gl_state("unlit"):
-                GL.glLineWidth(gd.PATH_LINE_WIDTH_PX)
-                set_color(gd.PATH_COLOR)
-                verts = np.ascontiguousarray(task.path, dtype=np.float32)
-                client_arrays(verts)
-                GL.glDrawArrays(GL.GL_LINE_STRIP, 0, len(verts))
-                disable_client_arrays()
-                GL.glLineWidth(1.0)
+            frame.lines(task.path, gd.PATH_COLOR, GL.GL_LINE_STRIP, gd.PATH_LINE_WIDTH_PX)
+
+    def shadow_key(self) -> object:
+        task = self.task
+        return None if task is None else (task.object_pose.tobytes(), task.tool_pose.tobytes(), task.gripper_opening)
+
+    def bounds(self) -> FloatArray:
+        return np.zeros((0, 3)) if self.task is None else task_points(self.task)
+
+
+ITEM = TaskItem

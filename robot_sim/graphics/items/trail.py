@@ -1,29 +1,33 @@
-"""The endeffector trail drawable: a polyline through the points the endeffector passed."""
+"""The endeffector trail: a polyline through the points the endeffector passed."""
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import GL, draw_arrays, set_color
-from robot_sim.graphics.resources import Drawable
+from robot_sim.graphics.frame import Frame
+from robot_sim.graphics.gl import GL
+from robot_sim.graphics.item import Item
+from robot_sim.graphics.scene import GraphicsOptions, Scene
 
 
-class TrailGraphics(Drawable):
-    """Unlit line strip of ``TRAIL_COLOR``, ``TRAIL_WIDTH_PX`` wide, through world
-    ``points`` (N, 3) in metres, oldest first; depth tested so the arm hides what is
+class TrailItem(Item):
+    """``scene.trail`` (N, 3) world points in metres, oldest first, as an unlit line strip
+    of ``TRAIL_COLOR``, ``TRAIL_WIDTH_PX`` wide; depth tested so the arm hides what is
     behind it."""
 
-    gl_preset = "unlit"
+    layer = "translucent"
+    order = 5.0
 
-    def __init__(self, points: ArrayLike) -> None:
+    def __init__(self) -> None:
         super().__init__()
-        self.points = np.asarray(points, dtype=float).reshape(-1, 3)
+        self.points = np.zeros((0, 3))
 
-    def paint(self) -> None:
-        if len(self.points) < 2:
-            return
-        GL.glLineWidth(gd.TRAIL_WIDTH_PX)
-        set_color(gd.TRAIL_COLOR)
-        draw_arrays(GL.GL_LINE_STRIP, self.points)
-        GL.glLineWidth(1.0)
+    def update(self, scene: Scene, options: GraphicsOptions) -> None:
+        self.points = np.zeros((0, 3)) if scene.trail is None else np.asarray(scene.trail, dtype=float).reshape(-1, 3)
+        self.visible = len(self.points) >= 2
+
+    def paint(self, frame: Frame) -> None:
+        frame.lines(self.points, gd.TRAIL_COLOR, GL.GL_LINE_STRIP, gd.TRAIL_WIDTH_PX)
+
+
+ITEM = TrailItem

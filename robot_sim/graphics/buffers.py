@@ -1,0 +1,225 @@
+"""Vertex buffers of the render path: static meshes uploaded once (positions, normals,
+triangle indices), and stream buffers refilled each frame with per-instance placements
+and colours or with line vertices.
+
+Attributes follow :mod:`robot_sim.graphics.shaders`' fixed locations.  A placement
+(4, 4) is given row-major, as everywhere in the project; the ``a_model`` attribute
+takes its columns.  All arrays live in buffer objects, so the raw entry points are
+called with byte offsets (PyOpenGL's wrappers would keep the arrays alive per context).
+"""
+from __future__ import annotations
+
+import ctypes
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.graphics.gl import GL, _LazyModule
+from robot_sim.graphics.shaders import COLOR, MODEL, NORMAL, POSITION
+
+_GL2: Any = _LazyModule("OpenGL.raw.GL.VERSION.GL_2_0")
+_GL3: Any = _LazyModule("OpenGL.raw.GL.VERSION.GL_3_3")
+_GL31: Any = _LazyModule("OpenGL.raw.GL.VERSION.GL_3_1")
+_FLOAT = 4
+
+
+def _offset(nbytes: int) -> ctypes.c_void_p:
+    return ctypes.c_void_p(nbytes)
+
+
+def set_constant_color(rgba: ArrayLike) -> None:
+    """Colour of every vertex drawn while the colour array is disabled."""
+    GL.glDisableVertexAttribArray(COLOR)
+    r, g, b, a = (float(c) for c in rgba)
+    GL.glVertexAttrib4f(COLOR, r, g, b, a)
+
+
+def set_constant_model(placement: ArrayLike) -> None:
+    """Model matrix (4, 4) row-major of everything drawn while the model array is disabled."""
+    mat = np.asarray(placement, dtype=np.float64)
+    for column in range(4):
+        GL.glDisableVertexAttribArray(MODEL + column)
+        GL.glVertexAttrib4f(MODEL + column, *map(float, mat[:, column]))
+
+
+class StaticMesh:
+    """Triangles uploaded once per context: ``vertices`` and ``normals`` (V, 3) float32,
+    ``indices`` (F, 3) into them.  ``draw(n)`` draws n instances (0: once) with whatever
+    colour and model attributes are set."""
+
+    def __init__(self, vertices: ArrayLike, normals: ArrayLike, indices: ArrayLike) -> None:
+        self.vertices = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1, 3)
+        self.normals = np.ascontiguousarray(normals, dtype=np.float32).reshape(-1, 3)
+        self.indices = np.ascontiguousarray(indices, dtype=np.uint32).reshape(-1)
+        if self.normals.shape != self.vertices.shape:
+            raise ValueError(f"StaticMesh: normals {self.normals.shape} differ from vertices {self.vertices.shape}")
+        if len(self.indices) and int(self.indices.max()) >= len(self.vertices):
+            raise ValueError(f"StaticMesh: index {int(self.indices.max())} past {len(self.vertices)} vertices")
+        self._handles: tuple[int, int] | None = None
+
+    @classmethod
+    def from_triangles(cls, vertices: ArrayLike, normals: ArrayLike) -> StaticMesh:
+        """A mesh from triangle corner arrays (M, 3, 3) of positions and normals, corners
+        with equal position and normal merged (fewer vertices to shade)."""
+        corners = np.hstack([np.asarray(vertices, dtype=np.float32).reshape(-1, 3),
+                             np.asarray(normals, dtype=np.float32).reshape(-1, 3)])
+        unique, index = np.unique(np.round(corners, 6), axis=0, return_inverse=True)
+        return cls(unique[:, :3], unique[:, 3:], index.reshape(-1))
+
+    @property
+    def n_triangles(self) -> int:
+        """Number of triangles."""
+        return len(self.indices) // 3
+
+    def upload(self) -> None:
+        """Create the vertex and index buffers in the current context (once)."""
+        if self._handles is not None:
+            return
+        vbo, ebo = (int(b) for b in GL.glGenBuffers(2))
+        data = np.ascontiguousarray(np.hstack([self.vertices, self.normals]))
+        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, vbo)
+        GL.glBufferData(GL.GL_ARRAY_BUFFER, data.nbytes, data, GL.GL_STATIC_DRAW)
+        GL.glBindBuffer(GL.GL_ELEMENT_ARRAY_BUFFER, ebo)
+        GL.glBufferData(GL.GL_ELEMENT_ARRAY_BUFFER, self.indices.nbytes, self.indices, GL.GL_STATIC_DRAW)
+        GL.glBindBuffer(GL.GL_ELEMENT_ARRAY_BUFFER, 0)
+        self._handles = (vbo, ebo)
+
+    def draw(self, instances: int = 0, mode: int | None = None) -> None:
+        """Draw the triangles (or ``mode`` primitives over the same indices), ``instances``
+        times instanced when > 0."""
+        self.upload()
+        assert self._handles is not None
+        vbo, ebo = self._handles
+        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, vbo)
+        GL.glEnableVertexAttribArray(POSITION)
+        _GL2.glVertexAttribPointer(POSITION, 3, GL.GL_FLOAT, GL.GL_FALSE, 6 * _FLOAT, _offset(0))
+        GL.glEnableVertexAttribArray(NORMAL)
+        _GL2.glVertexAttribPointer(NORMAL, 3, GL.GL_FLOAT, GL.GL_FALSE, 6 * _FLOAT, _offset(3 * _FLOAT))
+        GL.glBindBuffer(GL.GL_ELEMENT_ARRAY_BUFFER, ebo)
+        mode = GL.GL_TRIANGLES if mode is None else mode
+        if instances > 0:
+            _GL31.glDrawElementsInstanced(mode, len(self.indices), GL.GL_UNSIGNED_INT, _offset(0), instances)
+        else:
+            GL.glDrawElements(mode, len(self.indices), GL.GL_UNSIGNED_INT, _offset(0))
+        GL.glBindBuffer(GL.GL_ELEMENT_ARRAY_BUFFER, 0)
+        GL.glDisableVertexAttribArray(NORMAL)
+
+    def delete(self) -> None:
+        """Delete the buffers (their context must be current); a later draw uploads again."""
+        if self._handles is not None:
+            GL.glDeleteBuffers(2, list(self._handles))
+            self._handles = None
+
+    def forget(self) -> None:
+        """Drop the buffers' handles without deleting them (their context is gone)."""
+        self._handles = None
+
+
+class StaticPoints:
+    """Points uploaded once per context: positions (N, 3) float32 and colours (N, 4)
+    uint8 (normalised to 0..1 on the way in)."""
+
+    def __init__(self, points: ArrayLike, colors: ArrayLike) -> None:
+        self.points = np.ascontiguousarray(points, dtype=np.float32).reshape(-1, 3)
+        self.colors = np.ascontiguousarray(colors, dtype=np.uint8).reshape(-1, 4)
+        if len(self.colors) != len(self.points):
+            raise ValueError(f"StaticPoints: {len(self.colors)} colours for {len(self.points)} points")
+        self._handle = 0
+
+    def draw(self, mode: int) -> None:
+        """Draw the points as ``mode`` primitives (GL_POINTS, GL_LINES, ...)."""
+        if not self._handle:
+            self._handle = int(GL.glGenBuffers(1))
+            GL.glBindBuffer(GL.GL_ARRAY_BUFFER, self._handle)
+            data = np.concatenate([self.points.view(np.uint8).ravel(), self.colors.ravel()])
+            GL.glBufferData(GL.GL_ARRAY_BUFFER, data.nbytes, data, GL.GL_STATIC_DRAW)
+        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, self._handle)
+        GL.glEnableVertexAttribArray(POSITION)
+        _GL2.glVertexAttribPointer(POSITION, 3, GL.GL_FLOAT, GL.GL_FALSE, 0, _offset(0))
+        GL.glEnableVertexAttribArray(COLOR)
+        _GL2.glVertexAttribPointer(COLOR, 4, GL.GL_UNSIGNED_BYTE, GL.GL_TRUE, 0, _offset(self.points.nbytes))
+        GL.glDrawArrays(mode, 0, len(self.points))
+        GL.glDisableVertexAttribArray(COLOR)
+
+    def delete(self) -> None:
+        """Delete the buffer (its context must be current)."""
+        if self._handle:
+            GL.glDeleteBuffers(1, [self._handle])
+            self._handle = 0
+
+    def forget(self) -> None:
+        """Drop the handle without deleting it (its context is gone)."""
+        self._handle = 0
+
+
+class StreamBuffer:
+    """One buffer object refilled with fresh data each time it is used."""
+
+    def __init__(self) -> None:
+        self.handle = 0
+
+    def fill(self, data: NDArray) -> None:
+        """Bind the buffer as the array buffer and replace its contents with ``data``."""
+        if not self.handle:
+            self.handle = int(GL.glGenBuffers(1))
+        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, self.handle)
+        GL.glBufferData(GL.GL_ARRAY_BUFFER, data.nbytes, data, GL.GL_STREAM_DRAW)
+
+    def instances(self, placements: ArrayLike, colors: ArrayLike) -> int:
+        """Bind placements (N, 4, 4) row-major and colours (N, 4) (or one (4,)) as the
+        per-instance model and colour attributes; returns N."""
+        mats = np.asarray(placements, dtype=np.float32).reshape(-1, 4, 4)
+        n = len(mats)
+        cols = np.broadcast_to(np.asarray(colors, dtype=np.float32).reshape(-1, 4), (n, 4))
+        data = np.ascontiguousarray(np.concatenate([mats.transpose(0, 2, 1).reshape(n, 16), cols], axis=1))
+        self.fill(data)
+        stride = 20 * _FLOAT
+        for column in range(4):
+            GL.glEnableVertexAttribArray(MODEL + column)
+            _GL2.glVertexAttribPointer(MODEL + column, 4, GL.GL_FLOAT, GL.GL_FALSE, stride, _offset(4 * column * _FLOAT))
+            _GL3.glVertexAttribDivisor(MODEL + column, 1)
+        GL.glEnableVertexAttribArray(COLOR)
+        _GL2.glVertexAttribPointer(COLOR, 4, GL.GL_FLOAT, GL.GL_FALSE, stride, _offset(16 * _FLOAT))
+        _GL3.glVertexAttribDivisor(COLOR, 1)
+        return n
+
+    @staticmethod
+    def end_instances() -> None:
+        """Back to constant model and colour attributes (no divisors)."""
+        for location in (*range(MODEL, MODEL + 4), COLOR):
+            _GL3.glVertexAttribDivisor(location, 0)
+            GL.glDisableVertexAttribArray(location)
+
+    def attributes(self, data: ArrayLike, layout: tuple[tuple[int, int], ...]) -> int:
+        """Bind rows of ``data`` (N, k) float32 as vertex attributes: ``layout`` lists
+        (location, size) in the order of the row's columns; returns N."""
+        rows = np.ascontiguousarray(data, dtype=np.float32)
+        rows = rows.reshape(len(rows), -1)
+        self.fill(rows)
+        stride, offset = rows.shape[1] * _FLOAT, 0
+        for location, size in layout:
+            GL.glEnableVertexAttribArray(location)
+            _GL2.glVertexAttribPointer(location, size, GL.GL_FLOAT, GL.GL_FALSE, stride, _offset(offset * _FLOAT))
+            offset += size
+        return len(rows)
+
+    def vertices(self, points: ArrayLike, colors: ArrayLike | None = None) -> int:
+        """Bind points (N, 3) (and per-vertex colours (N, 4) floats or uint8) as the
+        position (and colour) arrays; returns N."""
+        pts = np.asarray(points, dtype=np.float32).reshape(-1, 3)
+        if colors is None:
+            return self.attributes(pts, ((POSITION, 3),))
+        cols = np.asarray(colors)
+        cols = cols.astype(np.float32) / 255.0 if cols.dtype == np.uint8 else cols.astype(np.float32)
+        return self.attributes(np.hstack([pts, cols.reshape(-1, 4)]), ((POSITION, 3), (COLOR, 4)))
+
+    def delete(self) -> None:
+        """Delete the buffer (its context must be current)."""
+        if self.handle:
+            GL.glDeleteBuffers(1, [self.handle])
+            self.handle = 0
+
+    def forget(self) -> None:
+        """Drop the handle without deleting it (its context is gone)."""
+        self.handle = 0

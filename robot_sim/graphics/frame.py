@@ -1,0 +1,166 @@
+"""What an item needs to paint one frame: the camera's matrices, the lights and the
+shadow map, the theme, the shared GL resources of the context (programs, unit meshes, a
+stream buffer), and helpers that draw instanced meshes, meshes, lines and points with
+the right program.  World frame, z up, metres; pixels x right, y down.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.graphics import defs as gd
+from robot_sim.graphics.buffers import StaticMesh, StreamBuffer, set_constant_color, set_constant_model
+from robot_sim.graphics.gl import GL
+from robot_sim.graphics.meshes import unit_meshes
+from robot_sim.graphics.shaders import COLOR, SOURCES, Program
+from robot_sim.graphics.themes import Theme
+
+if TYPE_CHECKING:
+    from robot_sim.graphics.camera import Camera
+    from robot_sim.graphics.scene import GraphicsOptions
+
+SHADOW_UNIT = 1   # texture unit of the shadow map (unit 0 is the glyph atlas)
+RGBA = tuple[float, float, float, float]
+
+
+class Resources:
+    """GL objects of one context shared by all items: the programs of
+    :data:`~robot_sim.graphics.shaders.SOURCES`, the unit meshes, a stream buffer and
+    the vertex array object that holds the attribute state while the view draws."""
+
+    def __init__(self) -> None:
+        self.vao = int(GL.glGenVertexArrays(1))
+        self.programs = {name: Program(name) for name in SOURCES}
+        self.meshes = {name: StaticMesh.from_triangles(v, n) for name, (v, n) in unit_meshes().items()}
+        self.stream = StreamBuffer()
+
+    def valid(self) -> bool:
+        """True while the current context holds these objects."""
+        return bool(GL.glIsProgram(self.programs["lit"].handle))
+
+    def release(self, current: bool) -> None:
+        """Delete (``current``) or forget every object."""
+        for mesh in self.meshes.values():
+            (mesh.delete if current else mesh.forget)()
+        (self.stream.delete if current else self.stream.forget)()
+        if current:
+            for program in self.programs.values():
+                program.delete()
+            GL.glDeleteVertexArrays(1, [self.vao])
+
+
+@dataclass
+class Light:
+    """The key light (unit vector towards it, shadowed), the fill light, and the shadow
+    map's world -> light clip ``matrix`` and texel size (``shadows`` False: none); the
+    shadow map sees the sphere of ``radius`` about world ``centre`` (3,), which holds
+    every caster and its shadow on the floor."""
+
+    key: NDArray[np.float64]
+    fill: NDArray[np.float64]
+    matrix: NDArray[np.float64]
+    texel: float
+    shadows: bool
+    centre: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
+    radius: float = 0.0
+
+
+class Drawing:
+    """Draws meshes with the program in use: the base of :class:`Frame`, and what the
+    shadow pass gives :meth:`Item.paint_depth` (only positions and placements count)."""
+
+    resources: Resources
+
+    def __init__(self, resources: Resources) -> None:
+        self.resources = resources
+
+    def instances(self, mesh: str, placements: ArrayLike, colors: ArrayLike) -> None:
+        """Draw unit mesh ``mesh`` (``meshes.unit_meshes``) once per world placement
+        (N, 4, 4) (rotation x scale) in ``colors`` ((N, 4) or one RGBA)."""
+        mats = np.asarray(placements, dtype=float).reshape(-1, 4, 4)
+        if len(mats) == 0:
+            return
+        stream = self.resources.stream
+        n = stream.instances(mats, colors)
+        self.resources.meshes[mesh].draw(n)
+        stream.end_instances()
+
+    @staticmethod
+    def mesh(mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
+        """Draw ``mesh`` once at world ``placement`` (4, 4) in ``color``."""
+        set_constant_model(placement)
+        set_constant_color(color)
+        mesh.draw()
+
+
+@dataclass
+class Frame(Drawing):
+    """One frame being drawn; items read it and draw through its helpers."""
+
+    camera: Camera
+    options: GraphicsOptions
+    width: int
+    height: int
+    theme: Theme
+    light: Light
+    resources: Resources
+    view_proj: NDArray[np.float64] = field(init=False)
+    labels: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.view_proj = self.camera.projection_matrix(self.width / self.height) @ self.camera.view_matrix()
+
+    def add_label(self, point: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
+        """Write ``text`` next to world ``point`` in the text layer (theme colour by default)."""
+        self.labels.append((np.asarray(point, dtype=float).reshape(3), text, rgba or self.theme.label))
+
+    # ------------------------------------------------------------------ programs
+
+    def lit(self, alpha: float = 1.0, markers: bool = False) -> Program:
+        """The lit program in use with this frame's camera, lights and shadow map, every
+        fragment's alpha multiplied by ``alpha``; ``markers`` (the overlay layer's axes,
+        target and arrows) are lit from the eye instead, with no shadow, so that they
+        read in their colours from every side."""
+        light, theme = self.light, self.theme
+        program = self.resources.programs["lit"].use()
+        program.set("u_view_proj", self.view_proj).set("u_light_matrix", light.matrix)
+        program.set("u_key_dir", light.key).set("u_key_color", gd.KEY_LIGHT_COLOR)
+        program.set("u_fill_dir", light.fill).set("u_fill_color", gd.FILL_LIGHT_COLOR)
+        program.set("u_sky_color", gd.SKY_AMBIENT).set("u_ground_color", gd.GROUND_AMBIENT)
+        program.set("u_eye", self.camera.eye()).set("u_specular", gd.SPECULAR_STRENGTH)
+        program.set("u_shininess", gd.SHININESS).set("u_alpha", float(alpha))
+        program.set("u_below_floor", theme.below_floor).set("u_headlight", int(markers))
+        self.bind_shadow(program, not markers)
+        return program
+
+    def bind_shadow(self, program: Program, shadows: bool = True) -> None:
+        """Set ``program``'s shadow uniforms (the map is bound to ``SHADOW_UNIT``)."""
+        light = self.light
+        program.set("u_shadow_map", SHADOW_UNIT).set("u_shadows", int(light.shadows and shadows))
+        program.set("u_shadow_texel", light.texel).set("u_shadow_bias", gd.SHADOW_BIAS)
+
+    def unlit(self) -> Program:
+        """The unlit program in use (positions in the world, per-vertex or constant colour)."""
+        return self.resources.programs["unlit"].use().set("u_view_proj", self.view_proj)
+
+    # ------------------------------------------------------------------ drawing
+
+    def lines(self, points: ArrayLike, color: ArrayLike, mode: int | None = None, width: float = 1.0,
+              colors: ArrayLike | None = None) -> None:
+        """Unlit lines through world ``points`` (N, 3) (``mode``: GL_LINES by default,
+        GL_LINE_STRIP, GL_POINTS), ``width`` pixels, in ``color`` or per-vertex ``colors``."""
+        pts = np.asarray(points, dtype=float).reshape(-1, 3)
+        if len(pts) == 0:
+            return
+        self.unlit()
+        set_constant_model(np.eye(4))
+        if colors is None:
+            set_constant_color(color)
+        GL.glLineWidth(float(width))
+        n = self.resources.stream.vertices(pts, colors)
+        GL.glDrawArrays(GL.GL_LINES if mode is None else mode, 0, n)
+        GL.glDisableVertexAttribArray(COLOR)
+        GL.glLineWidth(1.0)

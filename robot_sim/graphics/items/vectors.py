@@ -1,0 +1,40 @@
+"""Arrows from a point along a world vector (1 m per unit): the endeffector's velocities
+and the mouse pull spring; drawn over the scene."""
+from __future__ import annotations
+
+from robot_sim.graphics import defs as gd
+from robot_sim.graphics.arrows import arrow_placements
+from robot_sim.graphics.frame import Frame
+from robot_sim.graphics.item import Item
+from robot_sim.graphics.robot_parts import robot_reach
+from robot_sim.graphics.scene import GraphicsOptions, Scene, Vector
+
+
+class VectorsItem(Item):
+    """``scene.vectors`` ((origin, vector, rgba) triples) when ``options.show_vectors``,
+    sized for the robot's reach."""
+
+    layer = "overlay"
+    order = 20.0
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.vectors: list[Vector] = []
+        self.reach = 1.0
+
+    def update(self, scene: Scene, options: GraphicsOptions) -> None:
+        self.vectors = list(scene.vectors) if options.show_vectors else []
+        self.reach = robot_reach(scene.kinematics.robot)
+        self.visible = bool(self.vectors)
+
+    def paint(self, frame: Frame) -> None:
+        frame.lit(markers=True)
+        for origin, vec, rgba in self.vectors:
+            shafts, heads = arrow_placements(origin, vec, self.reach * gd.VECTOR_SHAFT_RADIUS_FRAC,
+                                             self.reach * gd.VECTOR_HEAD_RADIUS_FRAC,
+                                             self.reach * gd.VECTOR_HEAD_LENGTH_FRAC)
+            frame.instances("cylinder", shafts, rgba)
+            frame.instances("cone", heads, rgba)
+
+
+ITEM = VectorsItem
