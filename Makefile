@@ -9,7 +9,7 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 SYSTEM_PKGS := libosmesa6 libgl1 xvfb xauth libxcb-icccm4 libxcb-image0 libxcb-keysyms1 \
 	libxcb-render-util0 libxcb-xinerama0 libxcb-xkb1 libxkbcommon-x11-0 libxcb-shape0 \
-	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3
+	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3 fonts-dejavu-core
 XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
 .PHONY: test test-full run bench setup system-deps clean
