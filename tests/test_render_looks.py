@@ -70,3 +70,37 @@ def test_msaa_gives_intermediate_colours_on_an_edge(render) -> None:
     options.samples = 4
     smooth = mixed(render(camera, go.Scene(kin), options))
     assert smooth > hard + 10, f"partly red rim pixels: {smooth} with MSAA, {hard} without"
+
+
+def test_a_mesh_renders_where_its_vertices_project(render) -> None:
+    """A magenta tetrahedron mesh on link 2 of the planar arm, in the mesh look: its
+    centroid's pixel (from forward kinematics and the link pose) is magenta, and the
+    pixels there are not magenta in the DH look."""
+    import dataclasses
+
+    from robot_sim.model.shapes import Mesh
+    from render_helpers import MAGENTA, color_mask
+
+    vertices = 0.06 * np.array([[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]])
+    faces = np.array([[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]])
+    offset = np.eye(4)
+    offset[:3, 3] = [-0.1, 0.0, 0.05]
+    base = posed("planar3", [20 * DEG, 40 * DEG, -30 * DEG]).robot
+    shapes = ((), (Mesh((vertices, faces), pose=offset, color=MAGENTA),), ())
+    robot = dataclasses.replace(base, visuals=shapes)
+    kin = posed(robot, [20 * DEG, 40 * DEG, -30 * DEG])
+    world = (kin.frames[2] @ offset @ np.c_[vertices, np.ones(4)].T).T[:, :3]
+    camera = framed(np.vstack([key_points(kin), world]))
+    options = options_for(kin)
+    options.shadows = False
+    meshes = render(camera, go.Scene(kin), options)
+    options.look = "dh"
+    plain = render(camera, go.Scene(kin), options)
+    xy = project(camera, world.mean(axis=0))[0]
+    y, x = int(round(xy[1])), int(round(xy[0]))
+    assert color_mask(meshes, MAGENTA)[y - 1:y + 2, x - 1:x + 2].any(), f"no mesh at {xy.round(1)}"
+    assert not color_mask(plain, MAGENTA)[y - 1:y + 2, x - 1:x + 2].any()
+    corners = project(camera, world)
+    lo, hi = corners.min(axis=0) - 2, corners.max(axis=0) + 2
+    ys, xs = np.nonzero(color_mask(meshes, MAGENTA))
+    assert len(xs) and xs.min() >= lo[0] and xs.max() <= hi[0] and ys.min() >= lo[1] and ys.max() <= hi[1]
