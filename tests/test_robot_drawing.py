@@ -18,7 +18,7 @@ from robot_sim import graphics as go
 go.require_osmesa_platform()
 
 from robot_sim.graphics import defs as gd  # noqa: E402
-from robot_sim.graphics.items.text import spread  # noqa: E402
+from robot_sim.graphics.items.text import LabelsItem  # noqa: E402
 from robot_sim.kinematics import forward_kinematics  # noqa: E402
 from robot_sim.model.params import JTYPE_PRISMATIC, JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
@@ -287,19 +287,16 @@ def white_mask(image: np.ndarray) -> np.ndarray:
     return np.all(image[..., :3] >= 235, axis=-1)
 
 
-def label_box(xy: np.ndarray, text: str) -> tuple[slice, slice]:
-    """Image rows and columns where ``text`` anchored at pixel ``xy`` is written."""
-    x, y = xy
-    w, h = go.text_size(text)
-    dx, dy = gd.LABEL_OFFSET_PX
-    left, bottom = int(round(x)) + dx, int(round(y)) - dy
-    return slice(max(bottom - h - 1, 0), bottom + 3), slice(max(left - 1, 0), left + w + 2)
+def label_slices(box: np.ndarray) -> tuple[slice, slice]:
+    """Image rows and columns of a label's box (left, top, right, bottom), a pixel around."""
+    left, top, right, bottom = np.round(box).astype(int)
+    return slice(max(top - 1, 0), bottom + 3), slice(max(left - 1, 0), right + 2)
 
 
 def test_frame_labels_are_written_next_to_each_drawn_frame(render: Frames) -> None:
-    """Frames 0..3 and E of the anthropomorphic arm: each label's box holds white text
-    pixels that are not there with labels off; frames 0 and 1 share their origin and
-    one label "0,1"."""
+    """Frames 0..3 and E of the anthropomorphic arm: each label's box (where the label
+    placement put it, clear of the axes) holds white text pixels that are not there with
+    labels off; frames 0 and 1 share their origin and one label "0,1"."""
     kin = posed("anthropomorphic", [30 * DEG, 60 * DEG, -45 * DEG])
     options = options_for(kin, base_frame=True)
     options.toggle_all_frames()
@@ -307,18 +304,22 @@ def test_frame_labels_are_written_next_to_each_drawn_frame(render: Frames) -> No
     assert names == ["0", "1", "2", "3", "E"]
     camera = framed(go.visible_points(go.Scene(kin), options))
     labelled = render(camera, go.Scene(kin), options)
+    placed = render.renderer.view.item(LabelsItem)
+    boxes, leaders = placed.placement.boxes.copy(), placed.placement.leaders.copy()
+    placed_texts = [text for _, text, _ in placed.labels]
     options.show_labels = False
     plain = render(camera, go.Scene(kin), options)
     labels = go.frame_labels(frames, names, go.axis_lengths(frames, go.robot_look(kin.robot).frame_length))
     texts = [text for _, text in labels]
     assert texts == ["0,1", "2", "3,E"]  # frame 1 sits on frame 0 (d1 = 0), no tool offset
     new = white_mask(labelled) & ~white_mask(plain)
-    # where the labels go: at their anchors' pixels, moved down where they would overlap
-    pixels = spread(project(camera, np.array([anchor for anchor, _ in labels])), [go.text_size(t) for t in texts])
-    for (anchor, text), xy in zip(labels, pixels):
-        rows, cols = label_box(xy, text)
-        assert new[rows, cols].sum() >= 8 * len(text), f"label {text!r} not written at {project(camera, anchor)[0].round(1)}"
-    assert new.sum() <= sum(go.text_size(t)[0] * go.text_size(t)[1] for t in texts), "text outside the label boxes"
+    assert placed_texts == texts
+    for (anchor, text), box in zip(labels, boxes):
+        rows, cols = label_slices(box)
+        assert new[rows, cols].sum() >= 8 * len(text), f"label {text!r} not written at {box.round(1)}"
+    leader_px = np.nansum(np.linalg.norm(leaders[:, 1] - leaders[:, 0], axis=-1))
+    budget = sum(go.text_size(t)[0] * go.text_size(t)[1] for t in texts) + 2 * (leader_px + len(texts))
+    assert new.sum() <= budget, "white pixels beyond the label boxes and their leaders"
 
 
 def test_coinciding_frames_do_not_share_surfaces() -> None:

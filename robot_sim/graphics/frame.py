@@ -109,6 +109,11 @@ class Frame(Drawing):
     resources: Resources
     view_proj: NDArray[np.float64] = field(init=False)
     labels: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
+    #: World polylines ((k, 3) each) the labels keep clear of: axes, arrows, dimensions.
+    obstacles: list[NDArray[np.float64]] = field(default_factory=list)
+    #: Texts written at fixed pixel boxes (box (left, top, right, bottom), text, rgba):
+    #: drawn as they are, and kept clear of by the labels.
+    texts: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.view_proj = self.camera.projection_matrix(self.width / self.height) @ self.camera.view_matrix()
@@ -116,6 +121,35 @@ class Frame(Drawing):
     def add_label(self, point: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
         """Write ``text`` next to world ``point`` in the text layer (theme colour by default)."""
         self.labels.append((np.asarray(point, dtype=float).reshape(3), text, rgba or self.theme.label))
+
+    def add_obstacle(self, points: ArrayLike) -> None:
+        """Keep labels clear of the world polyline through ``points`` (k, 3)."""
+        self.obstacles.append(np.asarray(points, dtype=float).reshape(-1, 3))
+
+    def add_text(self, box: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
+        """Write ``text`` in the pixel ``box`` (left, top, right, bottom) in the text layer."""
+        self.texts.append((np.asarray(box, dtype=float).reshape(4), text, rgba or self.theme.label))
+
+    def pixel_matrix(self) -> NDArray[np.float64]:
+        """Clip coordinates of pixels (x right, y down from the top row, z 0)."""
+        m = np.eye(4)
+        m[0, 0], m[0, 3] = 2.0 / self.width, -1.0
+        m[1, 1], m[1, 3] = -2.0 / self.height, 1.0
+        return m
+
+    def pixel_shapes(self, points: ArrayLike, colors: ArrayLike, mode: int, width: float = 1.0) -> None:
+        """Unlit ``mode`` primitives (GL_LINES, GL_TRIANGLES, ...) through pixel ``points``
+        (N, 2) in per-vertex ``colors`` (N, 4), ``width`` pixels for lines."""
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        if len(pts) == 0:
+            return
+        self.resources.programs["unlit"].use().set("u_view_proj", self.pixel_matrix())
+        set_constant_model(np.eye(4))
+        GL.glLineWidth(float(width))
+        n = self.resources.stream.vertices(np.c_[pts, np.zeros(len(pts))], colors)
+        GL.glDrawArrays(mode, 0, n)
+        GL.glDisableVertexAttribArray(COLOR)
+        GL.glLineWidth(1.0)
 
     # ------------------------------------------------------------------ programs
 

@@ -153,6 +153,7 @@ class AnnotationItem(Item):
                 GL.glLineStipple(*gd.ANNOTATION_DASH)
             frame.lines(points, rgba, GL.GL_LINE_STRIP, gd.ANNOTATION_LINE_WIDTH)
             GL.glDisable(GL.GL_LINE_STIPPLE)
+            frame.add_obstacle(points)  # no label on a dimension or an arc
         GL.glEnable(GL.GL_DEPTH_TEST)
         for anchor, text, rgba in self.annotation.labels:
             frame.add_label(anchor, text, rgba)

@@ -61,10 +61,14 @@ def axes_placements(frames: NDArray[np.float64], length: float) -> tuple[NDArray
 
 def draw_axes(frame: Frame, frames: ArrayLike, length: float) -> NDArray[np.float64]:
     """Draw the axes of world ``frames`` (N, 4, 4), ``length`` metres long, with the lit
-    program in use; returns each frame's axis length (N,)."""
-    shafts, cones, colors, lengths = axes_placements(np.asarray(frames, dtype=float).reshape(-1, 4, 4), length)
+    program in use (labels keep clear of them); returns each frame's axis length (N,)."""
+    poses = np.asarray(frames, dtype=float).reshape(-1, 4, 4)
+    shafts, cones, colors, lengths = axes_placements(poses, length)
     frame.instances("cylinder", shafts, colors)
     frame.instances("cone", cones, colors)
+    for pose, extent in zip(poses, lengths):  # labels keep clear of the arrows
+        for axis in range(3):
+            frame.add_obstacle([pose[:3, 3], pose[:3, 3] + extent * pose[:3, axis]])
     return lengths
 
 

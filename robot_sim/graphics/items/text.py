@@ -2,7 +2,10 @@
 drawn as textured quads at pixel positions, the same in the Qt widget and offscreen.
 
 Each label is written with a halo in the theme's halo colour, so it reads over light
-and dark parts alike; labels that would overlap move down (:func:`spread`).
+and dark parts alike.  Labels are placed clear of each other, of the arrows and lines the
+frame's items registered (:meth:`Frame.add_obstacle`) and of the texts written at fixed
+places (:meth:`Frame.add_text`), with a leader line where one had to move
+(:func:`~robot_sim.graphics.label_layout.place_labels`).
 """
 from __future__ import annotations
 
@@ -14,35 +17,21 @@ from robot_sim.graphics.font import GlyphAtlas, atlas, text_size
 from robot_sim.graphics.frame import Frame
 from robot_sim.graphics.gl import GL
 from robot_sim.graphics.item import Item
+from robot_sim.graphics.label_layout import LabelPlacement, place_labels, polyline_segments
 from robot_sim.graphics.shaders import COLOR, NORMAL, POSITION
 
-__all__ = ["LabelsItem", "spread", "text_size"]
+__all__ = ["LabelsItem", "text_size"]
 
-
-def spread(pixels: NDArray[np.float64], sizes: list[tuple[int, int]]) -> NDArray[np.float64]:
-    """Label anchors (N, 2) (x right, y down) moved down, in order, by whole text lines
-    until no text box (``sizes`` (w, h) each, drawn right of and above its anchor)
-    overlaps an earlier one; anchors that project nowhere (NaN) stay put."""
-    out = pixels.copy()
-    boxes: list[tuple[float, float, float, float]] = []
-    gap = gd.LABEL_GAP_PX
-    for k, ((w, h), (x, y)) in enumerate(zip(sizes, pixels)):
-        if not (np.isfinite(x) and np.isfinite(y)):
-            continue
-        for _ in range(len(sizes) + 1):
-            box = (x, y - h - gap, x + w, y)
-            if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in boxes):
-                break
-            y += h + gap
-        boxes.append(box)
-        out[k] = (x, y)
-    return out
+#: Width of the leader line from a moved label's point to its text (pixels).
+LEADER_WIDTH_PX = 1.0
 
 
 class LabelsItem(Item):
     """Every label the frame's items added (:meth:`Frame.add_label`), in the label font
     with a halo in the theme's colour, ``LABEL_OFFSET_PX`` right of and above its point's
-    pixel, moved down where it would overlap an earlier one (:func:`spread`)."""
+    pixel where that place is free, else at the nearest free place with a leader line
+    (``place_labels``); and the frame's fixed texts.  ``labels`` and ``placement`` keep
+    what the last frame wrote where (the boxes, for tests and hosts)."""
 
     layer = "text"
     order = 0.0
@@ -51,6 +40,8 @@ class LabelsItem(Item):
         super().__init__()
         self._texture = 0
         self._version = -1
+        self.labels: list[tuple[NDArray[np.float64], str, tuple[float, ...]]] = []
+        self.placement = place_labels(np.zeros((0, 2)), [], (1, 1))
 
     def _bind_atlas(self, glyphs: GlyphAtlas) -> None:
         if not self._texture:
@@ -67,21 +58,18 @@ class LabelsItem(Item):
             self._version = glyphs.version
 
     def paint(self, frame: Frame) -> None:
-        if not frame.labels:
-            return
         glyphs = atlas()
-        texts = [text for _, text, _ in frame.labels]
-        pixels = spread(frame.camera.project(np.array([p for p, _, _ in frame.labels]), frame.width, frame.height),
-                        [glyphs.text_size(t) for t in texts])
-        dx, dy = gd.LABEL_OFFSET_PX
+        self.labels = list(frame.labels)
+        self.placement = self.place(frame, glyphs)
         rows = []
-        for (_, text, rgba), (x, y) in zip(frame.labels, pixels):
-            if not (np.isfinite(x) and np.isfinite(y)):
+        written = [(box, text, rgba) for box, (_, text, rgba) in zip(self.placement.boxes, self.labels)] + frame.texts
+        for box, text, rgba in written:
+            if not np.all(np.isfinite(box)):
                 continue
-            quads = glyphs.layout(text, x + dx, y - dy - glyphs.line_height)
-            for quad in quads:  # two triangles per glyph: position (x, y, 0), uv in the normal slot, colour
+            for quad in glyphs.layout(text, box[0], box[1]):  # two triangles a glyph: (x, y, 0), uv, colour
                 corners = quad[[0, 1, 2, 0, 2, 3]]
                 rows.append(np.c_[corners[:, :2], np.zeros(6), corners[:, 2:], np.zeros(6), np.tile(rgba, (6, 1))])
+        self._paint_leaders(frame)
         if not rows:
             return
         self._bind_atlas(glyphs)
@@ -92,6 +80,26 @@ class LabelsItem(Item):
         GL.glDrawArrays(GL.GL_TRIANGLES, 0, n)
         GL.glDisableVertexAttribArray(NORMAL)
         GL.glDisableVertexAttribArray(COLOR)
+
+    @staticmethod
+    def place(frame: Frame, glyphs: GlyphAtlas) -> LabelPlacement:
+        """Where the frame's labels go: clear of each other, its obstacles and its texts."""
+        if not frame.labels:
+            return place_labels(np.zeros((0, 2)), [], (frame.width, frame.height))
+        project = frame.camera.project
+        anchors = project(np.array([p for p, _, _ in frame.labels]), frame.width, frame.height)
+        lines = polyline_segments([project(points, frame.width, frame.height) for points in frame.obstacles])
+        taken = np.array([box for box, _, _ in frame.texts]).reshape(-1, 4)
+        return place_labels(anchors, [glyphs.text_size(text) for _, text, _ in frame.labels],
+                            (frame.width, frame.height), lines, taken)
+
+    def _paint_leaders(self, frame: Frame) -> None:
+        """A thin line from each moved label's point to its text, in the label's colour."""
+        moved = np.flatnonzero(self.placement.moved)
+        if len(moved):
+            points = np.concatenate([self.placement.leaders[k] for k in moved])
+            colors = np.repeat([self.labels[k][2] for k in moved], 2, axis=0)
+            frame.pixel_shapes(points + 0.5, colors, GL.GL_LINES, LEADER_WIDTH_PX)
 
     def release(self, current: bool) -> None:
         if current and self._texture:
