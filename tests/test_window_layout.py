@@ -163,3 +163,38 @@ def test_size_sizes_pictures_not_the_window(app: QApplication) -> None:  # noqa:
     finally:
         win.close()
         win.deleteLater()
+
+
+def test_status_texts_end_in_an_ellipsis_at_the_window_edge(opened: Any) -> None:
+    win = opened("--robot", "puma560", "--motion", "pd", size=(1024, 768))
+    win.timer.stop()
+    win.session.toggle_target()
+    win.session.move_target(translation=np.array([2.0, 0.0, 0.0]))  # unreachable: a long status line
+    long_message = "ct: largest joint tracking error 0.00619 (joint 2), tool 0.125 mm; object placed " * 3
+    win.message(long_message)
+    win.refresh_status()
+    QApplication.instance().processEvents()
+    bar = win.statusBar()
+    for label in (win.message_label, win.status):
+        rect = on_window(label, win)
+        assert win.rect().contains(rect) and bar.geometry().contains(rect)
+        assert label.fontMetrics().horizontalAdvance(label.shown_text()) <= label.contentsRect().width()
+        assert label.toolTip() == label.text()
+    assert win.message_label.text() == long_message and win.message_label.shown_text().endswith("…")
+    assert "IK target UNREACHABLE" in win.status.text()
+
+
+def test_no_velocity_disc_on_a_resting_tool(opened: Any) -> None:
+    from robot_sim.graphics import defs as gd
+    from window_helpers import grab, project
+
+    win = opened("--robot", "puma560", "--motion", "pd", "--duration", "1.5", size=(1024, 768))
+    win.timer.stop()  # settling: a few mm/s at the tool
+    speed = np.linalg.norm(win.session.kin.endeff_twist[:3])
+    assert 0.0 < speed < 0.01
+    image = grab(win)
+    x, y = np.round(project(win, win.session.kin.endeff_tf.t())).astype(int)
+    patch = image[max(y - 40, 0):y + 41, max(x - 40, 0):x + 41, :3].astype(int)
+    for color in (gd.LINEAR_VELOCITY_COLOR, gd.ANGULAR_VELOCITY_COLOR):  # no orange or purple disc
+        rgb = np.round(255 * np.asarray(color[:3]))
+        assert np.count_nonzero(np.all(np.abs(patch - rgb) <= 50, axis=-1)) == 0, color

@@ -309,22 +309,46 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     assert not np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
 
 
-def test_workspace_cloud_has_a_colour_legend(app: Any, planar: Any) -> None:
+def scale_colours(image: np.ndarray, scale: Any) -> list[bool]:
+    """Whether the picture shows each second colour stop inside the scale's bar."""
+    left, top, right, bottom = scale.bar
+    y = int(round(0.5 * (top + bottom)))
+    hits = []
+    for stop, r, g, b in gd.WORKSPACE_COLORMAP[::2]:
+        x = int(round(left + 2 + stop * (right - left - 4)))
+        hits.append(bool(np.all(np.abs(image[y, x, :3].astype(int) - np.round(255 * np.array([r, g, b]))) < 20)))
+    return hits
+
+
+def test_e_shows_the_colour_scale_at_once(app: Any, planar: Any) -> None:
+    from robot_sim.graphics.items.color_scale import color_scale_layout
+
     planar.options = dataclasses.replace(planar.options, workspace=5000)
     press(app, Qt.Key_E)
-    wait_until(lambda: planar.session.workspace is not None)
-    planar.sync_widgets()
+    wait_until(lambda: planar.session.workspace is not None)  # no widget sync asked for
     values = planar.session.workspace.values
-    assert planar.view.info.info.cloud_range == (float(values.min()), float(values.max()))
-    picture = planar.view.grab().toImage()
-    rect = planar.view.info.legend_rect()
-    for stop, r, g, b in gd.WORKSPACE_COLORMAP[::2]:
-        x = round(rect.left() + 2 + stop * (rect.width() - 4))
-        colour = picture.pixelColor(x, rect.center().y())
-        assert abs(colour.red() - 255 * r) < 20 and abs(colour.green() - 255 * g) < 20 and abs(colour.blue() - 255 * b) < 20
+    scale = color_scale_layout(float(values.min()), float(values.max()), *planar.view.pixel_size())
+    assert all(scale_colours(grab(planar), scale))
     press(app, Qt.Key_E)
-    planar.sync_widgets()
-    assert planar.view.info.info.cloud_range is None
+    assert not any(scale_colours(grab(planar), scale))
+
+
+def test_e_frames_the_cloud(app: Any) -> None:
+    win = open_window(app, "--robot", "ur5", "--q", "0,-60,90,-120,-90,0")
+    try:
+        win.options = dataclasses.replace(win.options, workspace=4000)
+        press(app, Qt.Key_E)
+        wait_until(lambda: win.session.workspace is not None)
+        points = np.asarray(win.session.workspace.points)
+        camera = win.session.camera
+        eye = camera.eye()
+        assert np.any(eye < points.min(axis=0)) or np.any(eye > points.max(axis=0))  # outside the cloud
+        pixels = camera.project(points, *win.view.pixel_size())
+        width, height = win.view.pixel_size()
+        inside = (pixels[:, 0] >= 0) & (pixels[:, 0] < width) & (pixels[:, 1] >= 0) & (pixels[:, 1] < height)
+        assert inside.all()
+    finally:
+        win.close()
 
 
 # ------------------------------------------------------------------ help, Esc, screenshots

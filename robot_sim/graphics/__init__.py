@@ -16,7 +16,9 @@ Modules, one job each:
   owns its GL objects and paints itself in one layer (pyqtgraph's item model);
   ``frame``: what items paint with (matrices, lights, shared GL resources, helpers);
 * ``items/``: one drawable per file (robot, meshes, ghost, floor, frames, target,
-  vectors, cloud, task, trail, annotation, labels), found by :func:`item_classes`;
+  vectors, cloud, task, trail, annotation, labels, the cloud's colour scale), found by
+  :func:`item_classes`; ``label_layout``: where labels go, clear of each other and of
+  arrows; ``vector_clip``: which arrows are drawn, shortened to the view;
 * ``shaders``: the GLSL programs; ``buffers``: vertex buffers; ``targets``: the
   multisampled target and the shadow map; ``lighting``: lights and the shadow's view;
 * ``meshes``: unit meshes tessellated once; ``robot_parts``: the robot as its DH
@@ -36,6 +38,8 @@ from robot_sim.graphics.framing import annotation_points, visible_points
 from robot_sim.graphics.gl import require_osmesa_platform
 from robot_sim.graphics.item import Item
 from robot_sim.graphics.items.annotation import Annotation, dh_annotation
+from robot_sim.graphics.items.color_scale import ColorScale, color_scale_layout
+from robot_sim.graphics.label_layout import LabelPlacement, place_labels
 from robot_sim.graphics.workspace import WorkspaceCloud, colormap
 from robot_sim.graphics.items.floor import FloorGrid
 from robot_sim.graphics.items.frames import axis_lengths, frame_labels, frames_and_names
@@ -58,9 +62,9 @@ from robot_sim.graphics.solid import solid_parts
 from robot_sim.graphics.themes import THEMES, Theme
 
 __all__ = [
-    "Annotation", "Camera", "DHSegments", "FloorGrid", "GraphicsOptions", "Item", "LOOKS", "OffscreenRenderer",
+    "Annotation", "Camera", "ColorScale", "DHSegments", "LabelPlacement", "FloorGrid", "GraphicsOptions", "Item", "LOOKS", "OffscreenRenderer",
     "Part", "RGBA", "RobotLook", "Scene", "THEMES", "Theme", "Vector", "View", "WorkspaceCloud",
-    "annotation_points", "axis_lengths", "colormap", "dh_annotation", "dh_segments", "differing", "frame_labels",
-    "frames_and_names", "item_classes", "look_for", "looks_of", "part_corners", "require_osmesa_platform",
+    "annotation_points", "axis_lengths", "color_scale_layout", "colormap", "dh_annotation", "dh_segments", "differing", "frame_labels",
+    "frames_and_names", "item_classes", "look_for", "looks_of", "part_corners", "place_labels", "require_osmesa_platform",
     "robot_look", "robot_parts", "robot_reach", "save_png", "solid_parts", "text_size", "visible_points",
 ]

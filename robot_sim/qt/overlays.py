@@ -1,6 +1,7 @@
 """Widgets drawn over the window: the help overlay (key and mouse bindings) and the view
-information in the GL view's corners (grid scale, projection, follow mode, and the colour
-legend of the workspace cloud).
+information in the GL view's bottom-left corner (grid scale, projection, follow mode).
+The workspace cloud's colour scale is part of the picture (render_scene draws it, in the
+window and in ``--screenshot`` alike).
 
 Both are Qt widgets painted with QPainter above the GL picture, so they share no GL state
 with the render path (``graphics.View``).
@@ -10,11 +11,9 @@ from __future__ import annotations
 import html
 from dataclasses import dataclass
 
-import numpy as np
 from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
-from robot_sim.graphics import defs as gd
 from robot_sim.qt import settings as qs
 
 
@@ -107,19 +106,15 @@ class HelpOverlay(QtWidgets.QScrollArea):
 
 @dataclass
 class ViewInfo:
-    """What the view's corners say: grid spacing (m), projection, follow mode, and the
-    cloud's value range and colour stops when the cloud is shown."""
+    """What the view's corner says: grid spacing (m), projection, follow mode."""
 
     grid_step: float
     orthographic: bool
     following: bool
-    cloud_range: tuple[float, float] | None = None
 
 
 class ViewInfoOverlay(QtWidgets.QWidget):
-    """Bottom-left: grid spacing, projection and follow mode; bottom-right, while the
-    workspace cloud is shown: its colour bar from the lowest to the highest
-    manipulability.  Transparent to the mouse."""
+    """Bottom-left: grid spacing, projection and follow mode.  Transparent to the mouse."""
 
     def __init__(self, parent: QtWidgets.QWidget) -> None:
         super().__init__(parent)
@@ -135,35 +130,12 @@ class ViewInfoOverlay(QtWidgets.QWidget):
             parts.append("following the endeffector")
         return "  ·  ".join(parts)
 
-    def legend_rect(self) -> QtCore.QRect:
-        """Where the colour bar is drawn (widget pixels)."""
-        w, h = qs.LEGEND_BAR_SIZE_PX
-        margin = qs.VIEW_INFO_MARGIN_PX
-        return QtCore.QRect(self.width() - margin - w, self.height() - margin - h - qs.LEGEND_TEXT_PX, w, h)
-
     def paintEvent(self, event: QtGui.QPaintEvent) -> None:
         painter = QtGui.QPainter(self)
         font = painter.font()
-        font.setPixelSize(qs.LEGEND_TEXT_PX)
+        font.setPixelSize(qs.VIEW_INFO_TEXT_PX)
         painter.setFont(font)
         painter.setPen(QtGui.QColor(*qs.VIEW_INFO_TEXT_RGB))
         margin = qs.VIEW_INFO_MARGIN_PX
         painter.drawText(margin, self.height() - margin, self.status_text())
-        if self.info.cloud_range is not None:
-            self._paint_legend(painter)
         painter.end()
-
-    def _paint_legend(self, painter: QtGui.QPainter) -> None:
-        rect = self.legend_rect()
-        gradient = QtGui.QLinearGradient(QtCore.QPointF(rect.left(), 0), QtCore.QPointF(rect.right(), 0))
-        for stop, r, g, b in np.asarray(gd.WORKSPACE_COLORMAP, dtype=float):
-            gradient.setColorAt(stop, QtGui.QColor(round(255 * r), round(255 * g), round(255 * b)))
-        painter.fillRect(rect, gradient)
-        painter.drawRect(rect)
-        lo, hi = self.info.cloud_range
-        text_y = rect.bottom() + qs.LEGEND_TEXT_PX + 2
-        painter.drawText(rect.left(), text_y, f"{lo:.3g}")
-        high = f"{hi:.3g}"
-        painter.drawText(rect.right() - painter.fontMetrics().horizontalAdvance(high), text_y, high)
-        title = qs.LEGEND_TITLE
-        painter.drawText(rect.center().x() - painter.fontMetrics().horizontalAdvance(title) // 2, rect.top() - 4, title)

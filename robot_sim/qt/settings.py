@@ -183,11 +183,9 @@ STATUS_ERROR_MS = 15000
 HELP_MAX_COLUMNS = 2
 HELP_COLUMN_GAP_PX = 14
 
-# View information in the GL view's corners: grid spacing, projection, follow mode,
-# and the colour legend of the workspace cloud (coloured by manipulability)
+# View information in the GL view's bottom-left corner: grid spacing, projection, follow
+# mode (the workspace cloud's colour scale is drawn in the picture: graphics/items/color_scale)
 VIEW_INFO_GRID_FORMAT = "grid {step:g} m"
 VIEW_INFO_MARGIN_PX = 8
 VIEW_INFO_TEXT_RGB = (225, 225, 225)
-LEGEND_BAR_SIZE_PX = (160, 12)       # width, height
-LEGEND_TEXT_PX = 12
-LEGEND_TITLE = "manipulability √det(J Jᵀ)"
+VIEW_INFO_TEXT_PX = 12

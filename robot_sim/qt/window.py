@@ -28,7 +28,6 @@ from PyQt5.QtCore import Qt
 
 from robot_sim.graphics import defs as gd
 from robot_sim.qt import settings as qs
-from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 from robot_sim.qt.guard import guarded, install_excepthook
 from robot_sim.qt.pick_panel import PickPanel, PlotDock
@@ -45,6 +44,7 @@ from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.io.robot_file import available_robots, resolve_robot_path
 from robot_sim.viewer.trail import Trail
+from robot_sim.qt.elided_label import ElidedLabel
 from robot_sim.qt.shortcuts import ShortcutFilter
 from robot_sim.viewer.session import ViewerSession, compute_workspace
 from robot_sim.viewer.workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
@@ -245,11 +245,11 @@ class MainWindow(QtWidgets.QMainWindow):
         self.timer.setInterval(qs.ANIM_INTERVAL_MS)
         self.timer.timeout.connect(self.tick)
         self.workspace_ready.connect(self.on_workspace_ready, QtCore.Qt.QueuedConnection)
-        self.message_label = QtWidgets.QLabel()
+        self.message_label = ElidedLabel()  # long texts end in "…", never past the window's edge
         self.message_timer = QtCore.QTimer(self)
         self.message_timer.setSingleShot(True)
-        self.message_timer.timeout.connect(self.message_label.clear)
-        self.status = QtWidgets.QLabel()
+        self.message_timer.timeout.connect(lambda: self.message_label.setText(""))
+        self.status = ElidedLabel()
         self.statusBar().addWidget(self.message_label, 1)
         self.statusBar().addPermanentWidget(self.status)
         self.build_dock()
@@ -406,12 +406,8 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def update_view_info(self) -> None:
         session = self.session
-        cloud = session.workspace if session.options.show_workspace else None
-        cloud_range = None
-        if cloud is not None and len(cloud.values):
-            cloud_range = (float(np.min(cloud.values)), float(np.max(cloud.values)))
         step = go.FloorGrid.for_reach(go.robot_reach(session.robot)).step
-        self.view.info.info = ViewInfo(step, session.camera.orthographic, self.following, cloud_range)
+        self.view.info.info = ViewInfo(step, session.camera.orthographic, self.following)
         self.view.info.update()
 
     @guarded
@@ -430,14 +426,12 @@ class MainWindow(QtWidgets.QMainWindow):
         """Show ``text`` left of the permanent status for ``duration_ms`` (default
         STATUS_MESSAGE_MS)."""
         self.message_label.setText(text)
-        self.message_label.setToolTip(text)
         self.message_timer.start(qs.STATUS_MESSAGE_MS if duration_ms is None else duration_ms)
 
     def withdraw_message(self, text: str) -> None:
         """``text`` no longer holds (a refused cell is valid again): clear it if shown."""
         if self.message_label.text() == text:
-            self.message_label.clear()
-            self.message_label.setToolTip("")
+            self.message_label.setText("")
 
     # ---- robots: chooser, DH edits, files ----
     @guarded
@@ -918,9 +912,13 @@ class MainWindow(QtWidgets.QMainWindow):
 
     @guarded
     def on_workspace_ready(self) -> None:
-        """The worker ended (queued from its thread): take its outcome if still wanted."""
+        """The worker ended (queued from its thread): take its outcome if still wanted; a
+        cloud just computed is framed with the arm (it reaches well past the arm's pose)."""
         if self.workspace.collect():
             self.show_workspace_state()
+            if self.workspace.state == SHOWN:
+                self.session.fit_camera()
+                self.view.update()
 
     def show_workspace_state(self) -> None:
         """Make the session, the status bar and the picture follow the job's state."""

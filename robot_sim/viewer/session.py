@@ -392,12 +392,16 @@ class ViewerSession:
 
     def status_text(self, fps_text: str) -> str:
         """Status bar text: robot name and frame rate, and a failed IK target's errors
-        (the endeffector pose has its own readout in the window)."""
+        (the position error only for an arm whose IK places the tool without orienting it:
+        its rotation error is no failure); the endeffector pose has its own readout in
+        the window."""
         text = vs.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
         if self.target_tf is not None and not self.target_reachable:
-            text += vs.STATUS_TARGET_UNREACHABLE.format(
-                pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err)
-            )
+            if ik_position_only_required(self.robot):
+                text += vs.STATUS_POSITION_UNREACHABLE.format(pos_err=self.ik_result.pos_err)
+            else:
+                text += vs.STATUS_TARGET_UNREACHABLE.format(
+                    pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err))
         if self._motion is not None:
             text += " | " + self._motion.status_text()
         return text

@@ -9,6 +9,7 @@ UNLIMITED_PRISMATIC_RANGE_M = 1.0    # slider range of a prismatic joint without
 # Status bar
 STATUS_FORMAT = "{robot} | {fps}"  # permanent, right; one-off messages on its left
 STATUS_TARGET_UNREACHABLE = " | IK target UNREACHABLE (pos err {pos_err:.3f} m, rot err {rot_err_deg:.1f} deg)"
+STATUS_POSITION_UNREACHABLE = " | IK target UNREACHABLE (pos err {pos_err:.3f} m)"  # arms that only place the tool
 ANIM_SPEED_REVOLUTE = 1.5            # rad/s, current joints moving toward the ghost
 ANIM_SPEED_PRISMATIC = 0.3           # m/s
 ANIM_ARRIVED_TOL = 1e-6              # rad or m

@@ -8,11 +8,13 @@ from robot_sim.graphics.frame import Frame
 from robot_sim.graphics.item import Item
 from robot_sim.graphics.robot_parts import robot_reach
 from robot_sim.graphics.scene import GraphicsOptions, Scene, Vector
+from robot_sim.graphics.vector_clip import shown_vectors
 
 
 class VectorsItem(Item):
     """``scene.vectors`` ((origin, vector, rgba) triples) when ``options.show_vectors``,
-    sized for the robot's reach."""
+    sized for the robot's reach: none shorter than its head, each shortened to the view
+    (vector_clip.shown_vectors)."""
 
     layer = "overlay"
     order = 20.0
@@ -29,7 +31,9 @@ class VectorsItem(Item):
 
     def paint(self, frame: Frame) -> None:
         frame.lit(markers=True)
-        for origin, vec, rgba in self.vectors:
+        head = self.reach * gd.VECTOR_HEAD_LENGTH_FRAC
+        for origin, vec, rgba in shown_vectors(self.vectors, frame.camera, frame.width, frame.height, head):
+            frame.add_obstacle([origin, origin + vec])  # no label on an arrow
             shafts, heads = arrow_placements(origin, vec, self.reach * gd.VECTOR_SHAFT_RADIUS_FRAC,
                                              self.reach * gd.VECTOR_HEAD_RADIUS_FRAC,
                                              self.reach * gd.VECTOR_HEAD_LENGTH_FRAC)
