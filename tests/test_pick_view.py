@@ -199,3 +199,19 @@ def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
     ghost = renderer.view.item(GhostItem)
     expected = [(p.mesh, p.color) for p in posed_parts(ghost_kin, "dh", False) if p.color != gd.ENDEFF_COLOR]
     assert [(p.mesh, p.color) for p in ghost.parts] == expected
+
+
+def test_hidden_by_box_agrees_with_sampling_the_sight_line() -> None:
+    from robot_sim.viewer.pick_view import hidden_by_box
+
+    rng = np.random.default_rng(3)
+    lo, hi = np.array([-0.2, -0.3, 0.0]), np.array([0.2, 0.3, 0.5])
+    eye = np.array([2.0, 1.0, 1.2])
+    points = rng.uniform([-1.0, -1.0, -0.2], [1.0, 1.0, 1.0], size=(300, 3))
+    points[:40] = rng.uniform(lo, hi, size=(40, 3))  # inside the box: behind its near face
+    t = np.linspace(0.0, 0.999, 4000)[None, :, None]
+    line = eye + t * (points[:, None, :] - eye)
+    want = np.all((line >= lo) & (line <= hi), axis=-1).any(axis=1)
+    got = hidden_by_box(eye, points, lo, hi)
+    assert want.sum() > 50
+    np.testing.assert_array_equal(got, want)

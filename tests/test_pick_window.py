@@ -7,11 +7,34 @@ import pytest
 
 from robot_sim.qt import settings as qs
 from window_helpers import app, open_window  # noqa: F401 - the QApplication fixture
+from robot_sim.control.controllers import MOTION_LABELS
 
 from PyQt5.QtGui import QColor, QImage  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 
 pytestmark = pytest.mark.window
+
+
+@pytest.mark.parametrize("robot", ["scara", "humanoid7"])
+def test_the_pick_view_frames_table_object_and_arm_with_nothing_hidden(app, robot):  # noqa: F811
+    from robot_sim.viewer.pick_view import arm_points, hidden_by_box, table_box
+
+    win = open_window(app, "--robot", robot, "--demo", "pick", size=(1024, 768))
+    try:
+        win.timer.stop()
+        plan, camera = win.session.pick.plan, win.session.camera
+        assert not hidden_by_box(camera.eye(), arm_points(plan), *table_box(plan)).any()  # the table hides no arm
+        lo, hi = table_box(plan)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        width, height = win.view.pixel_size()
+        for what, points in (("table", corners), ("arm", arm_points(plan)), ("object", plan.spec.object_pose[None, :3, 3])):
+            pixels = camera.project(points, width, height)
+            assert np.all((pixels >= 0) & (pixels < [width, height])), what
+        assert win.motion_panel.combo.currentText() == MOTION_LABELS["kinematic"]
+        assert not win.motion_panel.replay_note.isVisible()
+    finally:
+        win.close()
+        win.deleteLater()
 
 
 @pytest.fixture
@@ -85,6 +108,10 @@ def test_simulated_pick_plots_effort(app):  # noqa: F811
         assert len(curves) == 6
         np.testing.assert_array_equal(curves[0].yData, demo.effort[:, 0])
         np.testing.assert_array_equal(curves[0].xData, demo.plan.trajectory.t)
+        # the chooser names the replayed run's mode, not "kinematic"
+        assert win.motion_panel.combo.currentText() == MOTION_LABELS["ct"] and not win.session.physical
+        assert win.motion_panel.replay_note.isVisible()
+        assert "computed torque" in win.motion_panel.replay_note.text()
     finally:
         win.close()
         win.deleteLater()

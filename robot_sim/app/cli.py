@@ -421,7 +421,8 @@ def session_from_config(config: Config) -> ViewerSession:
     if config.wireframe:
         session.options.toggle_wireframe()
     if config.pick_plan is not None:
-        session.start_pick(config.pick_plan, config.time, config.pick_effort)
+        session.start_pick(config.pick_plan, config.time, config.pick_effort,
+                           config.motion if config.pick_effort is not None else "kinematic")
     session.options.annotate_joint = config.annotate
     session.fit_camera(on_annotation=config.annotate is not None)
     return session

@@ -25,9 +25,16 @@ class MotionPanel(QtWidgets.QWidget):
         self.combo.setFocusPolicy(Qt.NoFocus)
         self.combo.currentIndexChanged.connect(lambda index: self.mode_chosen.emit(MOTION_MODES[index]))
         layout.addWidget(self.combo)
+        self.replay_note = QtWidgets.QLabel()
+        self.replay_note.setWordWrap(True)
+        self.replay_note.hide()
+        layout.addWidget(self.replay_note)
 
-    def show_mode(self, mode: str) -> None:
-        """Select ``mode`` without emitting."""
+    def show_mode(self, mode: str, replayed: bool = False) -> None:
+        """Select ``mode`` without emitting; ``replayed``: the pick demo replays a run
+        simulated in ``mode`` (the arm itself is not simulated now), which a note says."""
         self.combo.blockSignals(True)
         self.combo.setCurrentIndex(MOTION_MODES.index(mode))
         self.combo.blockSignals(False)
+        self.replay_note.setText(f"replaying the pick task as {MOTION_LABELS[mode]} ran it")
+        self.replay_note.setVisible(replayed)

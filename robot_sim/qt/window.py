@@ -562,9 +562,13 @@ class MainWindow(QtWidgets.QMainWindow):
         self.sync_widgets()
 
     def show_motion_mode(self) -> None:
-        """The chooser names the session's motion mode; effort bars in physical modes."""
-        self.motion_panel.show_mode(self.session.motion.mode if self.session.physical else "kinematic")
-        self.joints.show_efforts(self.session.physical)
+        """The chooser names the session's motion mode, or the mode of the simulated pick
+        run being replayed; effort bars in physical modes."""
+        session, pick = self.session, self.session.pick
+        replayed = not session.physical and pick is not None and pick.effort is not None
+        mode = session.motion.mode if session.physical else (pick.mode if replayed else "kinematic")
+        self.motion_panel.show_mode(mode, replayed)
+        self.joints.show_efforts(session.physical)
 
     def sync_motion(self) -> None:
         """Effort bars, and a flash and a message for each joint-limit arrival."""
@@ -833,6 +837,7 @@ class MainWindow(QtWidgets.QMainWindow):
             self.plot_dock.raise_()
             self.resizeDocks([self.plot_dock], [round(self.height() * qs.PLOT_DOCK_HEIGHT_FRACTION)], Qt.Vertical)
         self.plot_dock.show_trajectory(self.session.pick.plan.trajectory, self.session.pick.effort)
+        self.show_motion_mode()
         self.sync_pick()
         self.start_motion()
 

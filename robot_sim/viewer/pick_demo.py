@@ -27,11 +27,12 @@ def plan_for(robot: RobotParams, task_path: str | Path | None = None) -> TaskPla
 class PickDemo:
     """A task being played: ``time`` [s] within the plan, ``speed`` (1 = real time),
     ``playing``.  Playback stops at the end; seeking past the end shows the final scene.
-    ``effort`` (N, n) holds the joint efforts of a simulated run (whose motion is then
-    the plan's trajectory), None for the kinematic plan."""
+    ``effort`` (N, n) holds the joint efforts of a run simulated in motion ``mode``
+    (whose motion is then the plan's trajectory), None for the kinematic plan."""
 
     plan: TaskPlan
     effort: np.ndarray | None = None
+    mode: str = "kinematic"
     time: float = 0.0
     speed: float = 1.0
     playing: bool = True

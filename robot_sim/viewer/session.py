@@ -30,6 +30,7 @@ from robot_sim.kinematics import (
 )
 from robot_sim.viewer.motion import Motion
 from robot_sim.viewer.pick_demo import PickDemo
+from robot_sim.viewer.pick_view import clear_view_azimuth
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.model.state import RobotState
@@ -142,10 +143,15 @@ class ViewerSession:
         the arm at its current pose, the floor under its base, the drawn frames, the IK
         target and the workspace cloud when shown (world, m).  With ``on_annotation`` and
         a joint annotated, frame that joint's DH annotation and its two frames only, so
-        its dimensions, arcs and labels are large enough to read."""
+        its dimensions, arcs and labels are large enough to read.  During the pick task
+        the camera turns about the vertical, if it must, until the table hides none of the
+        arm (pick_view.clear_view_azimuth)."""
         self.camera.reset()
         focus = go.annotation_points(self.scene(), self.options) if on_annotation else None
         points = focus if focus is not None else go.visible_points(self.scene(), self.options)
+        if self.pick is not None and focus is None:
+            azimuth = clear_view_azimuth(self.camera, self.pick.plan, points, self.aspect)
+            self.camera.set_view(azimuth, self.camera.elevation_deg)
         self.camera.fit(points, self.aspect)
 
     # ---- motion mode (kinematic or simulated, see motion.py) ----
@@ -310,12 +316,14 @@ class ViewerSession:
             self.step_animation(dt)
 
     # ---- pick demo (planned task, scrubbed or played) ----
-    def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None) -> None:
+    def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None,
+                   mode: str = "kinematic") -> None:
         """Show the pick task ``plan`` at ``time`` s (past the end: the final scene),
         playing unless at the end; stops the circle demo and hides the IK target.
-        ``effort`` (N, n): the joint efforts when ``plan`` holds a simulated run."""
+        ``effort`` (N, n): the joint efforts when ``plan`` holds a run simulated in motion
+        ``mode`` (control.MOTION_MODES)."""
         self.demo, self.target_tf, self.ik_result = None, None, None
-        self.pick = PickDemo(plan, effort)
+        self.pick = PickDemo(plan, effort, mode=mode)
         self.show_pick_at(time)
         self.pick.playing = self.pick.time < self.pick.duration
         self.fit_camera()
