@@ -17,7 +17,7 @@ from robot_sim.io.files import write_atomic
 from robot_sim.model.params import CONVENTIONS, JTYPE_REVOLUTE, RobotDefinitionError, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot
 from robot_sim.io.robot_writer import to_toml
-from robot_sim.transforms import HomogeneousTransform
+from robot_sim.model.table_text import frame_text, number, snap
 from robot_sim.io.urdf_out import to_urdf
 
 #: Column headings of the DH table per convention: (a, α) of row i name a different link.
@@ -55,19 +55,10 @@ def robots_table() -> str:
     return _table(rows)
 
 
-def _g(value: float) -> str:
-    """A number for the table: 6 significant digits, no negative zero."""
-    return f"{value + 0.0:.6g}" if math.isfinite(value) else ("inf" if value > 0 else "-inf")
-
-
-def _frame_text(tf: HomogeneousTransform) -> str:
-    roll, pitch, yaw = (math.degrees(v) for v in tf.rpy())
-    return f"xyz [{', '.join(_g(v) for v in tf.t())}] m, rpy [{_g(roll)}, {_g(pitch)}, {_g(yaw)}] deg"
-
-
 def dh_table_text(robot: RobotParams) -> str:
     """The robot's DH table in both conventions (the file's own first), with joint types,
-    q ranges, base and tool: angles in degrees, lengths in metres."""
+    q ranges, base and tool: angles in degrees, lengths in metres, each value snapped to
+    the round number it is within 1e-15 of (model.table_text.snap)."""
     order = sorted(CONVENTIONS, key=lambda c: c != robot.convention)
     out = [f"{robot.name}: {robot.n_dofs} joints ({joint_letters(robot)}), convention of the source: {robot.convention}"]
     for convention in order:
@@ -77,14 +68,15 @@ def dh_table_text(robot: RobotParams) -> str:
         for i in range(table.n_dofs):
             revolute = table.jtype[i] == JTYPE_REVOLUTE
             scale, unit = (180.0 / math.pi, "deg") if revolute else (1.0, "m")
-            lo, hi = table.q_min[i] * scale, table.q_max[i] * scale
-            q_range = "unlimited" if not (np.isfinite(lo) or np.isfinite(hi)) else f"{_g(lo)} .. {_g(hi)} {unit}"
+            lo, hi = snap(table.q_min[i]) * scale, snap(table.q_max[i]) * scale
+            q_range = "unlimited" if not (np.isfinite(lo) or np.isfinite(hi)) else f"{number(lo)} .. {number(hi)} {unit}"
             rows.append((
-                str(i + 1), "revolute" if revolute else "prismatic", _g(table.dh_a[i]),
-                _g(math.degrees(table.dh_alpha[i])), _g(math.degrees(table.dh_th[i])), _g(table.dh_d[i]), q_range,
+                str(i + 1), "revolute" if revolute else "prismatic", number(table.dh_a[i]),
+                number(math.degrees(snap(table.dh_alpha[i]))), number(math.degrees(snap(table.dh_th[i]))),
+                number(table.dh_d[i]), q_range,
             ))
         out += ["", f"{convention} DH: {_DH_FORMULAS[convention]}", _table(rows),
-                f"base: {_frame_text(table.base_tf)}", f"tool: {_frame_text(table.tool_tf)}"]
+                f"base: {frame_text(table.base_tf)}", f"tool: {frame_text(table.tool_tf)}"]
     return "\n".join(out)
 
 

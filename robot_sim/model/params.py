@@ -111,6 +111,15 @@ class RobotParams:
         for key in ("base_visuals", "base_collisions"):
             object.__setattr__(self, key, _shapes(key, getattr(self, key)))
 
+    def __str__(self) -> str:
+        """The DH table, as the Robotics Toolbox prints a robot (model.table_text.dh_table)."""
+        from robot_sim.model.table_text import dh_table
+
+        return dh_table(self)
+
+    def __repr__(self) -> str:
+        return f"<RobotParams {self.name!r}: {self.n_dofs} joints, {self.convention} DH>"
+
     @property
     def has_visuals(self) -> bool:
         """True if the base or any link carries a visual shape (else it is drawn from its DH table)."""
