@@ -14,23 +14,16 @@ frame, inertia about the frame origin; column :data:`MOD` says the DH convention
 Gravity ``g0`` (3,) [m/s²] is given in frame 0; an external wrench ``fext`` (6,) [N; N·m]
 on the last link acts about its frame origin, in its frame.  Units are SI throughout.
 
-This module imports nothing of the project (numpy and numba only).
+This module imports nothing of the project but :mod:`robot_sim.jit` (numba's settings).
 """
 from __future__ import annotations
 
 import math
-import os
-import tempfile
-from pathlib import Path
 
 import numpy as np
-import numba
 from numba import njit
 
-if not os.access(Path(__file__).parent, os.W_OK) and not os.environ.get("NUMBA_CACHE_DIR"):
-    # an installed or read-only checkout (or another user's): cache the machine code in a
-    # directory of our own instead of compiling it again in every process
-    numba.config.CACHE_DIR = str(Path(tempfile.gettempdir()) / f"robot_sim-numba-{os.getuid()}")
+from robot_sim.jit import JIT
 
 # Columns of the per-joint parameter table P.
 REV, TH, D, A, CA, SA, MASS, HX, HY, HZ = range(10)
@@ -42,8 +35,7 @@ NCOL = 27
 #: Status codes of :func:`step_batch` per configuration.
 OK, BAD_STATE, BAD_ACCEL = 0, 1, 2
 
-_JIT = dict(cache=True, nogil=True, error_model="numpy")
-_INLINE = dict(_JIT, inline="always")  # small helpers: inlined into the kernels
+_INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
 
 
 def parameter_table(
@@ -181,7 +173,7 @@ def cos_sin(x):
 # ------------------------------------------------------------------ chain geometry
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _geometry(P, modified, q, O, CS):
     """Offsets O[j] (origin j from origin j−1: in frame j for standard DH, in frame j−1
     for modified) and cos/sin of θ_j into CS[j]."""
@@ -227,7 +219,7 @@ def _subspace(P, modified, j):
 # ------------------------------------------------------------------ one configuration
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
     """τ (n,) into ``tau``: rigid bodies by Newton–Euler plus the drive terms
     G²Jm q̈ + G²B q̇ + |G|Tc±.  O, CS: :func:`_geometry` of q; work arrays F, NM (n, 3)."""
@@ -305,7 +297,7 @@ def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
             NM[j - 1, 2] += nz
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def crba_one(P, modified, M, O, CS):
     """M(q) (n, n) into ``M``: composite rigid bodies plus G²Jm on the diagonal (O, CS:
     :func:`_geometry` of q)."""
@@ -357,7 +349,7 @@ def crba_one(P, modified, M, O, CS):
                 cxx, cyy, czz, cxy, cyz, cxz = _rot_sym_z(cxx, cyy, czz, cxy, cyz, cxz, c, s)
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def cholesky_solve(M, b, x):
     """x with M x = b for symmetric positive definite M (n, n), factorised in place into
     its lower Cholesky factor; a matrix that is not positive definite leaves NaN in x."""
@@ -385,7 +377,7 @@ def cholesky_solve(M, b, x):
         x[i] = acc / M[i, i]
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, out, zero, bias, M, O, CS, F, NM):
     """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``."""
     _geometry(P, modified, q, O, CS)
@@ -416,7 +408,7 @@ def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref
     rnea_one(P, modified, qd, qdd_ref, g0, O[0], False, tau, O, CS, F, NM)
 
 
-@njit("b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1], f8, f8, f8[::1], f8[::1], f8[::1])", **_JIT)
+@njit("b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1], f8, f8, f8[::1], f8[::1], f8[::1])", **JIT)
 def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
     """:func:`_ct_one` for one configuration; False (nothing computed) unless every vector
     has n entries (g0 3) and the state and reference are finite."""
@@ -444,7 +436,7 @@ def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
 _VEC_SIGNATURE = "b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1])"
 
 
-@njit(_VEC_SIGNATURE, **_JIT)
+@njit(_VEC_SIGNATURE, **JIT)
 def rnea_vec(P, q, qd, qdd, g0, tau):
     """τ (n,) into ``tau`` for one configuration q, qd, qdd (n,), no external wrench; False
     (and nothing computed) unless all have n entries, g0 has 3 and every input is finite."""
@@ -460,7 +452,7 @@ def rnea_vec(P, q, qd, qdd, g0, tau):
     return True
 
 
-@njit(_VEC_SIGNATURE, **_JIT)
+@njit(_VEC_SIGNATURE, **JIT)
 def fd_vec(P, q, qd, tau, g0, qdd):
     """q̈ (n,) into ``qdd`` for one configuration q, qd, τ (n,), no external wrench; False
     as :func:`rnea_vec`."""
@@ -476,7 +468,7 @@ def fd_vec(P, q, qd, tau, g0, qdd):
     return True
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
     """τ (N, n) into TAU for Q, QD, QDD (N, n); FEXT (N, 6) when ``use_ext``."""
     modified = P[0, MOD] != 0.0
@@ -490,7 +482,7 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
     return finite
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
     """:func:`_ct_one` per configuration (gains KP, KD (N,)); finite inputs?"""
     modified = P[0, MOD] != 0.0
@@ -503,7 +495,7 @@ def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
     return finite
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def crba_batch(P, Q, MM):
     """M (N, n, n) into MM for Q (N, n)."""
     modified = P[0, MOD] != 0.0
@@ -517,7 +509,7 @@ def crba_batch(P, Q, MM):
     return finite
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     """q̈ (N, n) into QDD; NaN where M is not positive definite."""
     modified = P[0, MOD] != 0.0
@@ -531,7 +523,7 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     return finite
 
 
-@njit(**_JIT)
+@njit(**JIT)
 def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, Q1, QD1, QDD1, STATUS):
     """One step of length h [s] per configuration i with ``active[i]``, effort TAU[i] held:
     classical RK4 (``rk4``) or semi-implicit Euler.  ``known[i]``: A1[i] is the

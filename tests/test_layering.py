@@ -16,9 +16,10 @@ ALLOWED = {
     "model": {"transforms"},
     "io": {"model", "transforms"},
     "kinematics": {"model", "transforms"},
-    "dynamics_compiled": set(),  # numba kernels of dynamics: numpy and numba only
+    "jit": set(),  # numba's settings, shared by the compiled kernels
+    "dynamics_compiled": {"jit"},  # numba kernels of dynamics: numpy, numba and their settings
     "dynamics": {"model", "kinematics", "dynamics_compiled", "transforms"},
-    "collision": {"model", "io", "kinematics", "dynamics", "transforms"},
+    "collision": {"model", "io", "kinematics", "dynamics", "jit", "transforms"},
     "control": {"model", "io", "kinematics", "dynamics", "collision", "planning", "transforms"},
     "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},
     "graphics": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},

@@ -1,9 +1,8 @@
 """The numba settings of the collision kernels (compiled once per machine, cached).
 
 The kernels are scalar code over one shape pair or one configuration; the batched
-entry points loop over configurations inside compiled code.  ``cache=True`` keeps the
-machine code next to the modules (``__pycache__``) or, when that directory is not
-writable (an installed package), in a per-user directory under the temporary directory.
+entry points loop over configurations inside compiled code.  Where the machine code is
+cached is :mod:`robot_sim.jit`'s choice, shared with the dynamics kernels.
 
 numba checks a cached function against its own file only, not against the files of the
 functions it calls (which it compiled in): a kernel edited in ``closest.py`` would stay
@@ -13,22 +12,16 @@ whenever any of their sources changes (a digest of them is kept next to the cach
 from __future__ import annotations
 
 import hashlib
-import os
-import tempfile
 from pathlib import Path
 
 import numba
 from numba import njit
 
+from robot_sim.jit import JIT
+
 HERE = Path(__file__).resolve().parent
 #: The modules holding compiled kernels (they call each other).
 KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels")
-
-if not os.access(HERE, os.W_OK) and not os.environ.get("NUMBA_CACHE_DIR"):
-    numba.config.CACHE_DIR = str(Path(tempfile.gettempdir()) / f"robot_sim-numba-{os.getuid()}")
-
-#: Options of every compiled collision kernel.
-JIT = dict(cache=True, nogil=True, error_model="numpy")
 
 
 def _cache_dirs() -> list[Path]:
