@@ -51,3 +51,14 @@ def shape_world(frame: np.ndarray, shape) -> np.ndarray:
     """World points (V, 3) of a mesh shape's vertices in link frame ``frame`` (4, 4)."""
     T = frame @ shape.pose
     return (T[:3, :3] @ shape.vertices.T).T + T[:3, 3]
+
+
+def boxed_arm(folder: Path) -> Path:
+    """The shipped planar3 robot file with a red box visual on link 2, written to
+    ``folder`` (a robot that has a mesh look, without any mesh file)."""
+    text = (Path(__file__).resolve().parents[1] / "robots" / "planar3.toml").read_text()
+    third = text.index("[[joints]]", text.index("[[joints]]", text.index("[[joints]]") + 1) + 1)
+    box = '\n[[joints.visual]]\nbox = [0.4, 0.12, 0.12]\nxyz = [-0.2, 0.0, 0.0]\ncolor = [0.9, 0.1, 0.1, 1.0]\n\n'
+    path = folder / "boxed.toml"
+    path.write_text(text[:third] + box + text[third:])
+    return path

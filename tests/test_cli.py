@@ -231,3 +231,21 @@ def test_table_into_a_closed_pipe_exits_without_a_traceback() -> None:
     _, err = proc.communicate(timeout=120)
     assert err == b""
     assert proc.returncode == 1
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--theme", "blue"], "robot-sim: error: --theme: expected one of dark, light, got 'blue'"),
+        (["--look", "fancy"], "robot-sim: error: --look: expected one of dh, solid, mesh, both, got 'fancy'"),
+        (["--look", "mesh"], "robot-sim: error: --look: robot 'Anthropomorphic arm' has no visual shapes, "
+                             "so its looks are dh, solid; got 'mesh'"),
+    ],
+)
+def test_bad_theme_or_look_is_one_exact_line(args: list[str], message: str, tmp_path: Path) -> None:
+    out = tmp_path / "never.png"
+    result = run(*args, "--screenshot", str(out))
+    assert result.returncode == 2
+    assert result.stderr == message + "\n"
+    assert not out.exists()
+

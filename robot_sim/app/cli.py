@@ -83,6 +83,8 @@ class Config:
     motion: str | None = None  # --motion: physical motion mode
     simulate: float = 0.0  # --duration with --motion and no --record: seconds simulated first [s]
     gains: dict[str, Any] = field(default_factory=dict)  # --bandwidth, --damping, --kp, --kd
+    theme: str = go.DEFAULT_THEME  # --theme
+    look: str | None = None  # --look (None: the robot's default look)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -109,6 +111,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--frames", metavar="all|none|0,2,E",
                         help="show exactly these frames (0 = base frame, E = endeffector); default: the base frame")
     parser.add_argument("--wireframe", action="store_true", help="draw the robot as wireframe")
+    parser.add_argument("--theme", metavar="|".join(go.THEMES),
+                        help="colours of the world: dark (the default, for the screen) or light (for papers)")
+    parser.add_argument("--look", metavar="|".join(go.LOOKS),
+                        help="how the robot is drawn: its DH segments, solid capsules, its meshes, or the meshes "
+                             "translucent over the DH segments (default: its meshes if it has any, else dh)")
     parser.add_argument("--list-robots", action="store_true",
                         help="list the shipped robots (name, DOF, joints, convention, description) and exit")
     parser.add_argument("--workspace", type=_positive_int, default=0, metavar="N",
@@ -269,6 +276,29 @@ def check_display() -> None:
                    "use --screenshot FILE.png to render offscreen, or run under xvfb-run")
 
 
+def parse_theme(text: str | None) -> str:
+    """``--theme``: one of ``graphics.THEMES`` (the default theme when not given)."""
+    if text is None:
+        return go.DEFAULT_THEME
+    if text not in go.THEMES:
+        raise CliError(f"--theme: expected one of {', '.join(go.THEMES)}, got '{clip(text)}'")
+    return text
+
+
+def parse_look(text: str | None, robot: RobotParams) -> str | None:
+    """``--look``: one of ``graphics.LOOKS`` that ``robot`` can be drawn in (``mesh`` and
+    ``both`` need visual shapes); None when not given (the robot's default look)."""
+    if text is None:
+        return None
+    if text not in go.LOOKS:
+        raise CliError(f"--look: expected one of {', '.join(go.LOOKS)}, got '{clip(text)}'")
+    available = go.looks_of(robot)
+    if text not in available:
+        raise CliError(f"--look: robot '{robot.name}' has no visual shapes, so its looks are "
+                       f"{', '.join(available)}; got '{text}'")
+    return text
+
+
 def parse_joint_number(option: str, text: str, n_dofs: int) -> int:
     """A joint number 1..``n_dofs`` from ``text``, else CliError naming ``option``."""
     if not re.fullmatch(r"\d+", text.strip()) or not 1 <= int(text) <= n_dofs:
@@ -280,6 +310,7 @@ def config_from_args(args: argparse.Namespace) -> Config:
     """Validate parsed arguments: load the robot, parse q, size, frames and the screenshot path."""
     if args.tip is not None and not args.robot.lower().endswith(".urdf"):
         raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{args.robot}'")
+    theme = parse_theme(args.theme)
     try:
         with warnings.catch_warnings(record=True) as skipped:
             warnings.simplefilter("always", MeshSkippedWarning)
@@ -319,6 +350,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         motion=args.motion,
         simulate=simulate,
         gains=gains,
+        theme=theme,
+        look=parse_look(args.look, robot),
     )
 
 
@@ -420,6 +453,7 @@ def session_from_config(config: Config) -> ViewerSession:
         session.options.show_only_frames(config.frames)
     if config.wireframe:
         session.options.toggle_wireframe()
+    session.options.theme, session.options.look = config.theme, config.look
     if config.pick_plan is not None:
         session.start_pick(config.pick_plan, config.time, config.pick_effort,
                            config.motion if config.pick_effort is not None else "kinematic")

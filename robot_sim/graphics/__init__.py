@@ -59,11 +59,11 @@ from robot_sim.graphics.robot_parts import (
 )
 from robot_sim.graphics.scene import RGBA, GraphicsOptions, Scene, Vector
 from robot_sim.graphics.solid import solid_parts
-from robot_sim.graphics.themes import THEMES, Theme
+from robot_sim.graphics.themes import DEFAULT_THEME, THEMES, Theme
 
 __all__ = [
     "Annotation", "Camera", "ColorScale", "DHSegments", "LabelPlacement", "FloorGrid", "GraphicsOptions", "Item", "LOOKS", "OffscreenRenderer",
-    "Part", "RGBA", "RobotLook", "Scene", "THEMES", "Theme", "Vector", "View", "WorkspaceCloud",
+    "DEFAULT_THEME", "Part", "RGBA", "RobotLook", "Scene", "THEMES", "Theme", "Vector", "View", "WorkspaceCloud",
     "annotation_points", "axis_lengths", "color_scale_layout", "colormap", "dh_annotation", "dh_segments", "differing", "frame_labels",
     "frames_and_names", "item_classes", "look_for", "looks_of", "part_corners", "place_labels", "require_osmesa_platform",
     "robot_look", "robot_parts", "robot_reach", "save_png", "solid_parts", "text_size", "visible_points",

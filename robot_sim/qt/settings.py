@@ -18,6 +18,7 @@ KEY_BINDINGS = (
     ("H", "", "toggle_help", None, "show / hide this help"),
     ("Escape", "", "quit", None, "close this help, else quit"),
     ("T", "", "toggle_wireframe", None, "wireframe on / off"),
+    ("T", "Shift", "cycle_look", None, "next look: meshes, DH, both, solid (without meshes: DH, solid)"),
     ("A", "", "toggle_alpha", None, "transparency on / off"),
     ("0", "", "toggle_all_frames", None, "all joint frames on / off"),
     ("1", "", "toggle_frame", 1, "joint frame 1..9 on / off (all frames: dock list)"),

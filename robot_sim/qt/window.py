@@ -512,7 +512,7 @@ class MainWindow(QtWidgets.QMainWindow):
         # per-joint gains of the command line belong to the robot it named
         gains = {k: v for k, v in self.options.gains.items() if k in ("bandwidth", "damping")}
         self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1), gain_overrides=gains)
-        for flag in ("wireframe", "alpha", "show_vectors"):
+        for flag in ("wireframe", "alpha", "show_vectors", "theme", "look"):
             setattr(self.session.options, flag, getattr(old.options, flag))
         self.session.camera.orthographic = old.camera.orthographic
         if keep_q:
@@ -627,6 +627,7 @@ class MainWindow(QtWidgets.QMainWindow):
             "toggle_help": self.act_toggle_help,
             "quit": self.act_quit,
             "toggle_wireframe": self.act_toggle_wireframe,
+            "cycle_look": self.act_cycle_look,
             "toggle_alpha": self.act_toggle_alpha,
             "toggle_all_frames": self.act_toggle_all_frames,
             "toggle_frame": self.act_toggle_frame,
@@ -708,6 +709,12 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def act_toggle_wireframe(self, _: None) -> None:
         self.session.options.toggle_wireframe()
+
+    def act_cycle_look(self, _: None) -> None:
+        """Draw the robot in its next look (``graphics.looks_of``: meshes, DH, both, solid)."""
+        robot = self.session.robot
+        look = self.session.options.cycle_look(go.looks_of(robot), go.look_for(robot, self.session.options.look))
+        self.message(f"look: {look}")
 
     def act_toggle_alpha(self, _: None) -> None:
         self.session.options.toggle_alpha()
