@@ -993,22 +993,25 @@ def energy(
 
 # ------------------------------------------------------------------ one time step
 
-#: Status per arm of :meth:`Stepper.step`.
-STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL = 0, 1, 2
+#: Status per arm of :meth:`Stepper.step` (see there).
+STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL, STEP_CROSSED, STEP_AT_STOP = 0, 1, 2, 3, 4
 INTEGRATORS = ("rk4", "euler")
 
 
 class StepResult(NamedTuple):
     """Outcome of :meth:`Stepper.step` for N arms: the state after the step ``q``, ``qd``
-    (N, n), the acceleration at its start ``qdd`` (N, n) and ``status`` (N,) per arm
-    (:data:`STEP_OK`, :data:`STEP_BAD_STATE` when a stage state was not finite,
-    :data:`STEP_BAD_ACCEL` when an acceleration was not finite or M not positive definite).
-    Rows of arms that were not stepped, or that failed, hold no meaningful values."""
+    (N, n), the acceleration at its start ``qdd`` (N, n), ``status`` (N,) per arm (see
+    :meth:`Stepper.step`), the stops' reaction torque at the start ``reaction`` (N, n)
+    [N·m or N] (zero on joints not held; written when joints may be held) and ``at_limit``
+    (N, n), the joints exactly on a limit after the step (written with ``stops``).  Rows
+    of arms that were not stepped, or that failed, hold no meaningful values."""
 
     q: FloatArray
     qd: FloatArray
     qdd: FloatArray
     status: NDArray[np.int8]
+    reaction: FloatArray
+    at_limit: NDArray[np.bool_]
 
 
 class Stepper:
@@ -1031,9 +1034,14 @@ class Stepper:
         self._model = _model(robot)
         self._g0 = self._model.gravity_array(robot, gravity).copy()
         self._gravity = gravity
-        self._result = StepResult(*(np.empty(self.shape) for _ in range(3)), np.zeros(self.shape[0], dtype=np.int8))
+        self._lo, self._hi = (np.ascontiguousarray(x, dtype=float) for x in (robot.q_min, robot.q_max))
+        self._result = StepResult(
+            *(np.empty(self.shape) for _ in range(3)), np.zeros(self.shape[0], dtype=np.int8),
+            np.zeros(self.shape), np.zeros(self.shape, dtype=bool),
+        )
         self._all = np.ones(self.shape[0], dtype=bool)
         self._none = np.zeros(self.shape[0], dtype=bool)
+        self._no_held = np.zeros(self.shape, dtype=bool)
 
     def step(
         self,
@@ -1043,68 +1051,114 @@ class Stepper:
         qdd_start: FloatArray | None = None,
         known: NDArray[np.bool_] | None = None,
         active: NDArray[np.bool_] | None = None,
+        *,
+        held: NDArray[np.bool_] | None = None,
+        stops: bool = False,
+        dt: float | None = None,
     ) -> StepResult:
         """One step of the arms: q, qd, tau float64 (N, n) [rad, m, per s; N·m, N].
         ``qdd_start`` (N, n) with ``known`` (N,) bool: the acceleration at the start where
-        it is known (computed torque knows it) and finite, saving one forward dynamics.
-        ``active`` (N,) bool: only those arms are stepped (all by default)."""
+        it is known (computed torque knows it) and finite, saving one forward dynamics
+        (not used for an arm holding joints or on a stop).  ``active`` (N,) bool: only
+        those arms are stepped (all by default).  ``dt``: this step's length [s] (default
+        the stepper's).
+
+        Held joints are locked (q̈ = 0 in every stage; the others move with the constrained
+        dynamics, as ``constrained_forward_dynamics``) and ``reaction`` is their stops'
+        reaction at the start: ``held`` (N, n) bool names them, or, with ``stops``, the
+        robot's joint limits do.  With ``stops`` an arm resting on stops (joints exactly
+        on a limit at zero velocity whose reactions all push) is stepped with those joints
+        held and status :data:`STEP_OK`; an arm that starts on a stop moving into it, on a
+        one-point range, or with a reaction that would pull is not stepped
+        (:data:`STEP_AT_STOP`: the caller resolves it, ``control.joint_stops``); an arm
+        whose step ends beyond a limit is :data:`STEP_CROSSED` (its row is the free step,
+        from a start holding no joint) or :data:`STEP_AT_STOP` (it held joints).
+        :data:`STEP_BAD_STATE` / :data:`STEP_BAD_ACCEL`: a stage state / an acceleration
+        was not finite or M not positive definite.  The reference backend resolves no
+        stop itself: every arm starting on a stop is :data:`STEP_AT_STOP`."""
         for name, x in (("q", q), ("qd", qd), ("tau", tau)):
             if x.shape != self.shape:
                 raise ValueError(f"{name} must have shape {self.shape}, got shape {x.shape}")
         A1 = q if qdd_start is None else qdd_start
         known = self._none if known is None or qdd_start is None else known
         active = self._all if active is None else active
+        h = self.dt if dt is None else float(dt)
         out = self._result
         if _backend == "compiled":
             kernels, table = self._model.compiled()
             kernels.step_batch(
-                table, self.method == "rk4", self.dt, q, qd, tau, A1, known, self._g0, active,
-                out.q, out.qd, out.qdd, out.status,
+                table, self.method == "rk4", h, q, qd, tau, A1, known, self._g0, active,
+                self._no_held if held is None else held, held is not None, stops, self._lo, self._hi,
+                out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
             )
         else:
-            _reference_step(self.robot, q, qd, tau, self.dt, self.method, A1, known, active, self._gravity, out)
+            _reference_step(self.robot, q, qd, tau, h, self.method, A1, known, active, held, stops, self._gravity, out)
         return out
 
 
 def _reference_step(
     robot: RobotParams, Q: FloatArray, QD: FloatArray, TAU: FloatArray, h: float, method: str,
-    A1: FloatArray, known: NDArray[np.bool_], active: NDArray[np.bool_], gravity: ArrayLike, out: StepResult,
+    A1: FloatArray, known: NDArray[np.bool_], active: NDArray[np.bool_], held: NDArray[np.bool_] | None,
+    stops: bool, gravity: ArrayLike, out: StepResult,
 ) -> None:
-    """:meth:`Stepper.step` by the reference backend's batched forward dynamics."""
+    """:meth:`Stepper.step` by the reference backend's batched (constrained) forward dynamics."""
+    lo, hi = robot.q_min, robot.q_max
+    if stops:  # resolves no stop: an arm starting on one is the caller's
+        on_stop = ((Q == lo) | (Q == hi)).any(axis=1)
+        out.status[active & on_stop] = STEP_AT_STOP
+        active = active & ~on_stop
     idx = np.flatnonzero(active)
     q, v, tau = Q[idx], QD[idx], TAU[idx]
+    H = None if held is None else held[idx]
     ok = np.ones(len(idx), dtype=bool)
+    out.status[idx] = STEP_OK
 
-    def accel(qs: FloatArray, vs: FloatArray) -> FloatArray:
+    def accel(qs: FloatArray, vs: FloatArray, first: bool = False) -> FloatArray:
         """Accelerations of the arms still ok (NaN elsewhere); marks the failing ones."""
         good = np.isfinite(qs).all(axis=1) & np.isfinite(vs).all(axis=1)
         out.status[idx[ok & ~good]] = STEP_BAD_STATE
         ok[:] &= good
         a = np.full(qs.shape, np.nan)
         if ok.any():
-            a[ok] = forward_dynamics(robot, qs[ok], vs[ok], tau[ok], gravity)
+            if H is None:
+                a[ok] = forward_dynamics(robot, qs[ok], vs[ok], tau[ok], gravity)
+            else:
+                a[ok], reaction = constrained_forward_dynamics(robot, qs[ok], vs[ok], tau[ok], H[ok], gravity)
+                if first:
+                    out.reaction[idx[ok]] = reaction
         bad = ok & ~np.isfinite(a).all(axis=1)
         out.status[idx[bad]] = STEP_BAD_ACCEL
         ok[:] &= ~bad
         return a
 
     use_known = known[idx] & np.isfinite(A1[idx]).all(axis=1)
+    if H is not None:
+        use_known &= ~H.any(axis=1)
+    elif stops:
+        out.reaction[idx] = 0.0
     a1 = A1[idx].copy()
     if not use_known.all():
         ok[use_known] = False  # only the arms whose start acceleration is not known
-        computed = accel(q, v)
+        computed = accel(q, v, first=True)
         ok[use_known] = True
         a1[~use_known] = computed[~use_known]
+    if H is not None:
+        out.reaction[idx[use_known]] = 0.0
     out.qdd[idx] = a1
     if method == "euler":
         out.qd[idx] = v + h * a1
         out.q[idx] = q + h * out.qd[idx]
-        return
-    v2 = v + 0.5 * h * a1
-    a2 = accel(q + 0.5 * h * v, v2)
-    v3 = v + 0.5 * h * a2
-    a3 = accel(q + 0.5 * h * v2, v3)
-    v4 = v + h * a3
-    a4 = accel(q + h * v3, v4)
-    out.q[idx] = q + (h / 6.0) * (v + 2.0 * (v2 + v3) + v4)
-    out.qd[idx] = v + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
+    else:
+        v2 = v + 0.5 * h * a1
+        a2 = accel(q + 0.5 * h * v, v2)
+        v3 = v + 0.5 * h * a2
+        a3 = accel(q + 0.5 * h * v2, v3)
+        v4 = v + h * a3
+        a4 = accel(q + h * v3, v4)
+        out.q[idx] = q + (h / 6.0) * (v + 2.0 * (v2 + v3) + v4)
+        out.qd[idx] = v + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
+    if stops:
+        q1 = out.q[idx]
+        out.at_limit[idx] = (q1 == lo) | (q1 == hi)
+        crossed = ok & ((q1 < lo) | (q1 > hi)).any(axis=1)
+        out.status[idx[crossed]] = STEP_CROSSED

@@ -32,8 +32,12 @@ SVX, SVY, SVZ, SWX, SWY, SWZ = range(20, 26)  # joint motion [v; ω] per unit ra
 MOD = 26  # 1.0 in every row for modified DH (Craig), 0.0 for standard DH
 NCOL = 27
 
-#: Status codes of :func:`step_batch` per configuration.
-OK, BAD_STATE, BAD_ACCEL = 0, 1, 2
+#: Status codes of :func:`step_batch` per configuration: stepped; a stage state or an
+#: acceleration not finite; (with ``stops``) stepped from a start on no stop but beyond a
+#: limit at the end; (with ``stops``) not stepped, its start on a stop needs what the
+#: kernel does not do (an impact, a one-point range, a release, or an arrival while held).
+OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP = 0, 1, 2, 3, 4
+_NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
 _INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
 
@@ -378,14 +382,41 @@ def cholesky_solve(M, b, x):
 
 
 @njit(**JIT)
-def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, out, zero, bias, M, O, CS, F, NM):
-    """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``."""
+def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
+    """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``.  With ``use_held``, the joints j with
+    ``held[j]`` are locked: their rows and columns of M are replaced by the identity's and
+    their right-hand side by 0, so q̈_j = 0 exactly, and their reaction
+    λ_j = (M q̈ − (τ − C q̇ − g − τ_f + ext))_j goes into ``react`` (0.0 elsewhere; ``react``
+    is not touched without ``use_held``)."""
     _geometry(P, modified, q, O, CS)
     rnea_one(P, modified, qd, zero, g0, fext, use_ext, bias, O, CS, F, NM)
-    for j in range(P.shape[0]):
+    n = P.shape[0]
+    for j in range(n):
         bias[j] = tau[j] - bias[j]
     crba_one(P, modified, M, O, CS)
+    if not use_held:
+        cholesky_solve(M, bias, out)
+        return
+    for j in range(n):  # lock in the lower triangle only: the solve reads nothing else
+        react[j] = 0.0
+        if held[j]:
+            react[j] = -bias[j]
+            bias[j] = 0.0
+            for k in range(j):
+                M[j, k] = 0.0
+            for k in range(j + 1, n):
+                M[k, j] = 0.0
+            M[j, j] = 1.0
     cholesky_solve(M, bias, out)
+    for j in range(n):  # the strict upper triangle still holds M
+        if held[j]:
+            out[j] = 0.0
+            acc = react[j]
+            for k in range(j):
+                acc += M[k, j] * out[k]
+            for k in range(j + 1, n):
+                acc += M[j, k] * out[k]
+            react[j] = acc
 
 
 @njit(**_INLINE)
@@ -464,7 +495,7 @@ def fd_vec(P, q, qd, tau, g0, qdd):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
-    _fd_one(P, modified, q, qd, tau, g0, O[0], False, qdd, zero, bias, M, O, CS, F, NM)
+    _fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
     return True
 
 
@@ -518,67 +549,108 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
     finite = True
     for i in range(Q.shape[0]):
-        _fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, QDD[i], zero, bias, M, O, CS, F, NM)
+        _fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
+                bias, M, O, CS, F, NM)
         finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(TAU[i])
     return finite
 
 
 @njit(**JIT)
-def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, Q1, QD1, QDD1, STATUS):
+def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, stops, LO, HI, Q1, QD1, QDD1, REACT, AT,
+               STATUS):
     """One step of length h [s] per configuration i with ``active[i]``, effort TAU[i] held:
     classical RK4 (``rk4``) or semi-implicit Euler.  ``known[i]``: A1[i] is the
-    acceleration at the start (used when finite).  Writes the new state into Q1, QD1, the
-    start acceleration into QDD1 and a status (:data:`OK`, :data:`BAD_STATE` for a
-    non-finite stage state, :data:`BAD_ACCEL` for a non-finite acceleration) into STATUS."""
+    acceleration at the start (used when finite and no joint is held or on a stop).
+    Writes the new state into Q1, QD1, the start acceleration into QDD1 and a status
+    (:data:`OK` … :data:`AT_STOP`) into STATUS.
+
+    Held joints (q̈ = 0 in every stage, see :func:`_fd_one`): with ``use_held``, those of
+    HELD[i]; with ``stops`` (joint limits LO, HI (n,)), those resting on a stop: exactly on
+    it at zero velocity, kept there only if every reaction pushes (λ_j ≥ 0 on a min stop,
+    ≤ 0 on a max stop), else :data:`AT_STOP`.  A start with a joint on a stop moving into
+    it, or on a one-point range, is :data:`AT_STOP` too.  Where a joint is held, REACT[i]
+    is the stops' reaction at the start (0.0 elsewhere); with ``stops``, AT[i] flags the
+    joints exactly on a limit at the end, and an end beyond a limit is :data:`CROSSED`
+    (from a start holding no joint; else :data:`AT_STOP`)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
     fext = np.zeros(6)
     a1, a2, a3, a4 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    qs, vs = np.empty(n), np.empty(n)
+    qs, vs, react = np.empty(n), np.empty(n), np.empty(n)
+    held = np.zeros(n, dtype=np.bool_)
     half, sixth = 0.5 * h, h / 6.0
     for i in range(Q.shape[0]):
         if not active[i]:
             continue
         q, v, tau = Q[i], QD[i], TAU[i]
         STATUS[i] = OK
-        if known[i] and _finite(A1[i]):
+        any_held, on_stop = False, False
+        if stops:
+            for j in range(n):
+                on_lo, on_hi = q[j] == LO[j], q[j] == HI[j]
+                held[j] = False
+                if on_lo or on_hi:
+                    on_stop = True
+                    if (on_lo and on_hi) or (v[j] < 0.0 if on_lo else v[j] > 0.0):
+                        STATUS[i] = AT_STOP
+                    elif v[j] == 0.0:
+                        held[j] = any_held = True
+            if STATUS[i] == AT_STOP:
+                continue
+        elif use_held:
+            for j in range(n):
+                held[j] = HELD[i, j]
+                any_held = any_held or held[j]
+        if known[i] and not (any_held or on_stop) and _finite(A1[i]):
             a1[:] = A1[i]
         else:
-            _fd_one(P, modified, q, v, tau, g0, fext, False, a1, zero, bias, M, O, CS, F, NM)
+            _fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
             if not _finite(a1):
                 STATUS[i] = BAD_ACCEL
                 continue
+        if any_held:
+            for j in range(n):
+                if stops and held[j] and (react[j] < 0.0 if q[j] == LO[j] else react[j] > 0.0):
+                    STATUS[i] = AT_STOP  # this stop would pull: the joint may leave
+                REACT[i, j] = react[j] if held[j] else 0.0
+            if STATUS[i] == AT_STOP:
+                continue
+        elif stops or use_held:
+            REACT[i] = 0.0
         QDD1[i] = a1
         if not rk4:
             for j in range(n):
                 QD1[i, j] = v[j] + h * a1[j]
                 Q1[i, j] = q[j] + h * QD1[i, j]
-            continue
-        stages_ok = True
-        for stage in range(3):  # stages 2, 3, 4 of RK4
-            prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
-            out = a2 if stage == 0 else (a3 if stage == 1 else a4)
-            step = h if stage == 2 else half
+        else:
+            for stage in range(3):  # stages 2, 3, 4 of RK4
+                prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
+                out = a2 if stage == 0 else (a3 if stage == 1 else a4)
+                step = h if stage == 2 else half
+                for j in range(n):
+                    # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
+                    pv = v[j] if stage == 0 else vs[j]
+                    vs_new = v[j] + step * prev[j]
+                    qs[j] = q[j] + step * pv
+                    vs[j] = vs_new
+                if not (_finite(qs) and _finite(vs)):
+                    STATUS[i] = BAD_STATE
+                    break
+                _fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
+                if not _finite(out):
+                    STATUS[i] = BAD_ACCEL
+                    break
+            if STATUS[i] != OK:
+                continue
             for j in range(n):
-                # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
-                pv = v[j] if stage == 0 else vs[j]
-                vs_new = v[j] + step * prev[j]
-                qs[j] = q[j] + step * pv
-                vs[j] = vs_new
-            if not (_finite(qs) and _finite(vs)):
-                STATUS[i] = BAD_STATE
-                stages_ok = False
-                break
-            _fd_one(P, modified, qs, vs, tau, g0, fext, False, out, zero, bias, M, O, CS, F, NM)
-            if not _finite(out):
-                STATUS[i] = BAD_ACCEL
-                stages_ok = False
-                break
-        if not stages_ok:
-            continue
-        for j in range(n):
-            v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
-            Q1[i, j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
-            QD1[i, j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
+                v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
+                Q1[i, j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
+                QD1[i, j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
+        if stops:
+            for j in range(n):
+                x = Q1[i, j]
+                AT[i, j] = x == LO[j] or x == HI[j]
+                if x < LO[j] or x > HI[j]:
+                    STATUS[i] = AT_STOP if any_held else CROSSED

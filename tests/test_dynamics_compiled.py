@@ -176,3 +176,70 @@ def test_kernel_sine_and_cosine_match_the_c_library():
     out = np.array([dc.cos_sin(v) for v in x[:: 7]])  # interpreted calls: the same formulas
     ref = np.column_stack([np.cos(x[:: 7]), np.sin(x[:: 7])])
     assert np.abs(out - ref).max() <= 2.3e-16 * 2
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+@pytest.mark.parametrize("method", ["rk4", "euler"])
+def test_a_step_with_held_joints_equals_the_reference_step(method, convention):
+    """Joints held in the step (q̈ = 0 in every stage): the compiled step equals the
+    reference backend's (constrained_forward_dynamics), held joints stay put exactly, and
+    the reaction at the start is constrained_forward_dynamics' reaction."""
+    rob, rng = _chain(10, 6, convention, True)
+    N = 5
+    Q, QD, TAU = random_q(rob, rng, N), rng.normal(size=(N, 6)), rng.normal(size=(N, 6))
+    HELD = rng.random((N, 6)) < 0.4
+    HELD[0] = False
+    HELD[1] = True
+    QD[HELD] = 0.0
+
+    def run():
+        out = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=HELD)
+        return out.q.copy(), out.qd.copy(), out.qdd.copy(), out.reaction.copy(), out.status.copy()
+
+    (q_c, qd_c, a_c, r_c, s_c), (q_r, qd_r, a_r, r_r, s_r) = _both(run)
+    assert (s_c == dyn.STEP_OK).all() and (s_r == dyn.STEP_OK).all()
+    for c, r, what in ((q_c, q_r, "q"), (qd_c, qd_r, "qd"), (a_c, a_r, "qdd"), (r_c, r_r, "reaction")):
+        _close(c, r, what)
+    assert np.array_equal(q_c[HELD], Q[HELD]) and not qd_c[HELD].any() and not a_c[HELD].any()
+    assert not r_c[~HELD].any() and r_c[HELD].all()
+    qdd, reaction = dyn.constrained_forward_dynamics(rob, Q, QD, TAU, HELD)
+    _close(a_c, qdd, "start acceleration against constrained_forward_dynamics")
+    _close(r_c, reaction, "reaction against constrained_forward_dynamics")
+    free = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=np.zeros_like(HELD))
+    assert np.array_equal(free.q[0], q_c[0]) and np.array_equal(free.qd[0], qd_c[0])  # nothing held: the same bits
+
+
+def test_the_stepper_holds_joints_resting_on_their_stops_and_leaves_the_rest_to_the_caller():
+    """With stops: a joint on a stop at rest that its acceleration presses onto it is held
+    (the same bits as naming it held); one the acceleration pulls off, one moving into its
+    stop and a one-point range are left to the caller (AT_STOP); a free step that ends
+    beyond a limit is CROSSED with the free step's row; at_limit flags the end on a limit."""
+    rob, rng = _chain(11, 4, "standard", False)
+    q0 = random_q(rob, rng)
+    a0 = dyn.forward_dynamics(rob, q0, np.zeros(4), np.zeros(4))
+    pressed = 1 if abs(a0[1]) > 1e-6 else 2
+    lo, hi = np.full(4, -np.inf), np.full(4, np.inf)
+    # joint `pressed` on the stop its acceleration pushes it onto
+    (lo if a0[pressed] < 0 else hi)[pressed] = q0[pressed]
+    stops = dataclasses.replace(rob, q_min=lo, q_max=hi)
+    Q = np.tile(q0, (5, 1))
+    QD = np.zeros((5, 4))
+    QD[2, pressed] = -1.0 if a0[pressed] < 0 else 1.0  # env 2 moves into its stop
+    QD[3, 0] = 50.0  # env 3: joint 0 would cross (given a limit just ahead)
+    TAU = np.zeros((5, 4))
+    TAU[1, pressed] = -1e3 * np.sign(a0[pressed]) * (1 + abs(dyn.mass_matrix(rob, q0)[pressed, pressed]))  # env 1: pulled off
+    lo3, hi3 = np.full(4, -np.inf), np.full(4, np.inf)
+    hi3[0] = q0[0] + 1e-3  # only joint 0 limited: env 3 crosses, from a start on no stop
+    out = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, stops=True)
+    status, q1, reaction, at = out.status.copy(), out.q.copy(), out.reaction.copy(), out.at_limit.copy()
+    assert status.tolist()[:3] == [dyn.STEP_OK, dyn.STEP_AT_STOP, dyn.STEP_AT_STOP]
+    assert q1[0, pressed] == q0[pressed] and at[0].tolist() == [j == pressed for j in range(4)]
+    named = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, held=np.eye(4, dtype=bool)[[pressed] * 5])
+    assert np.array_equal(named.q[0], q1[0]) and np.array_equal(named.reaction[0], reaction[0])
+    assert np.sign(reaction[0, pressed]) == -np.sign(a0[pressed])  # the stop pushes against the fall
+    crossing = dataclasses.replace(rob, q_min=lo3, q_max=hi3)
+    out = dyn.Stepper(crossing, 5, 1e-3).step(Q, QD, TAU, stops=True)
+    free = dyn.Stepper(rob, 5, 1e-3).step(Q, QD, TAU)
+    assert out.status[3] == dyn.STEP_CROSSED and np.array_equal(out.q[3], free.q[3])
+    point = dataclasses.replace(rob, q_min=q0.copy(), q_max=np.where(np.arange(4) == 0, q0, np.inf))
+    assert dyn.Stepper(point, 5, 1e-3).step(Q, QD, TAU, stops=True).status[0] == dyn.STEP_AT_STOP

@@ -11,6 +11,7 @@ import pytest
 
 from robot_sim import dynamics
 from robot_sim.control import joint_stops
+from robot_sim.control.controllers import PD, control_gains
 from robot_sim.control.simulation import Simulation
 from robot_sim.model.inertials import LinkInertials
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
@@ -264,16 +265,22 @@ def test_joint_held_by_gravity_with_the_next_link_hanging_stays_with_the_gravity
     assert sim.take_events() == [] and sim.stopped is None
 
 
-def test_a_held_joint_reaction_is_the_inverse_dynamics_of_the_constrained_motion():
-    """UR5 (frictionless) with its shoulder on a stop that gravity presses it onto while the
-    other joints swing: every step that starts with the shoulder held, its reaction equals
-    inverse dynamics of the step's start state and acceleration minus the applied torque."""
+def _ur5_shoulder_on_its_stop() -> tuple[RobotParams, np.ndarray]:
+    """Frictionless UR5 whose shoulder (joint 2) starts on the stop gravity presses it onto,
+    the other joints free to swing."""
     free = frictionless("ur5")
     q0 = np.array([0.3, -0.5, 1.0, -0.4, 0.8, 0.0])
     a = dynamics.forward_dynamics(free, q0, np.zeros(6), np.zeros(6))
     q_min, q_max = free.q_min.copy(), free.q_max.copy()
     (q_min if a[1] < 0 else q_max)[1] = q0[1]
-    rob = dataclasses.replace(free, q_min=q_min, q_max=q_max)
+    return dataclasses.replace(free, q_min=q_min, q_max=q_max), q0
+
+
+def test_a_held_joint_reaction_is_the_inverse_dynamics_of_the_constrained_motion():
+    """UR5 (frictionless) with its shoulder on a stop that gravity presses it onto while the
+    other joints swing: every step that starts with the shoulder held, its reaction equals
+    inverse dynamics of the step's start state and acceleration minus the applied torque."""
+    rob, q0 = _ur5_shoulder_on_its_stop()
     state = RobotState(rob)
     state.set_q(q0)
     sim = Simulation(rob, state)
@@ -288,6 +295,53 @@ def test_a_held_joint_reaction_is_the_inverse_dynamics_of_the_constrained_motion
             np.testing.assert_allclose(expected[[0, 2, 3, 4, 5]], 0.0, atol=1e-9)
             assert sim.qdd[1] == 0.0 and q[1] == q0[1]
     assert held_steps > 100
+
+
+def _resting_run(case: str, backend: str) -> tuple[np.ndarray, int, int]:
+    """Per step (q, qd, q̈, limit_torque, at_limit) of a run that rests on a stop, under
+    ``backend``; the arrivals; the steps the stops resolved outside the stepper."""
+    if case == "ur5":
+        rob, q0 = _ur5_shoulder_on_its_stop()
+        controller, reference, steps = None, None, 300
+    else:  # the pendulum rests on its min stop until a PD set point 0.1 s in lifts it off
+        rob, q0 = pendulum(limits=(-0.4, 0.6)), np.array([-0.4])
+        controller = PD(rob, control_gains(rob, bandwidth=5.0))
+        reference, steps = (lambda t: (np.array([0.3 if t >= 0.1 else -0.4]), np.zeros(1), np.zeros(1))), 400
+    state = RobotState(rob)
+    state.set_q(q0)
+    sim = Simulation(rob, state, controller, reference=reference)
+    general = 0
+    through_stops = sim._through_stops
+
+    def counted(*args):
+        nonlocal general
+        general += 1
+        return through_stops(*args)
+
+    sim._through_stops = counted
+    dynamics.set_backend(backend)
+    try:
+        rows = [np.concatenate([sim.q, sim.qd, sim.qdd, sim.limit_torque, sim.at_limit]) for _ in range(steps) if sim.step(1)]
+    finally:
+        dynamics.set_backend("compiled")
+    return np.array(rows), len(sim.take_events()), general
+
+
+@pytest.mark.parametrize("case", ["ur5", "pendulum"])
+def test_resting_in_the_compiled_step_equals_the_reference_backend(case):
+    """A joint resting on its stop is held inside the compiled step (no step of the UR5's
+    rest leaves it); the run equals the reference backend's, whose steps all go through
+    the stops' general path, to round-off: the same held steps, reactions and release."""
+    compiled, events_c, general_c = _resting_run(case, "compiled")
+    reference, events_r, general_r = _resting_run(case, "reference")
+    assert compiled.shape == reference.shape and events_c == events_r
+    np.testing.assert_allclose(compiled, reference, rtol=1e-9, atol=1e-9)
+    n = compiled.shape[1] // 5
+    held_steps = int(compiled[:, 4 * n + (1 if case == "ur5" else 0)].sum())
+    if case == "ur5":
+        assert held_steps == len(compiled) and general_c == 0 and general_r == len(compiled)
+    else:  # rests 100 steps, released once (by the general path), then swings free
+        assert held_steps == 100 and general_c == 1 and compiled[-1, 0] > -0.3
 
 
 def test_limits_never_reached_change_nothing_bit_for_bit():

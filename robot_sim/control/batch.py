@@ -215,7 +215,7 @@ class BatchSimulation:
             if qdd_start is not None:
                 qdd_start = np.array(np.broadcast_to(qdd_start, q.shape), dtype=float)
                 known = ~saturated.any(axis=1)
-        result = self._stepper.step(q, qd, tau, qdd_start, known, active)
+        result = self._stepper.step(q, qd, tau, qdd_start, known, active, stops=self._limit_position)
         for status, why in ((dynamics.STEP_BAD_STATE, "the joint state became non-finite"),
                             (dynamics.STEP_BAD_ACCEL, "the joint acceleration became non-finite")):
             failed = active & (result.status == status)
@@ -223,7 +223,7 @@ class BatchSimulation:
             active &= ~failed
         q1, qd1, qdd1 = result.q, result.qd, result.qdd
         if self._limit_position:  # as in Simulation: through the stops, then velocity limits
-            active = self._through_stops(active, q, qd, tau, q1, qd1, qdd1)
+            active = self._through_stops(active, q, qd, tau, result)
         velocity_limited = self.velocity_limited
         if self._limit_velocity:
             velocity_limited = np.abs(qd1) > self.velocity_limit
@@ -243,39 +243,37 @@ class BatchSimulation:
         self.steps[ok] += 1
 
     def _through_stops(
-        self,
-        active: NDArray[np.bool_],
-        q: FloatArray,
-        qd: FloatArray,
-        tau: FloatArray,
-        q1: FloatArray,
-        qd1: FloatArray,
-        qdd1: FloatArray,
+        self, active: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, result: dynamics.StepResult
     ) -> NDArray[np.bool_]:
-        """The environments whose step touches a stop (they start on one, or the free
-        step (q1, qd1, qdd1) crossed a limit) redone, in place, by
-        ``Simulation.step_through_stops`` (the same code, so bit for bit a Simulation);
-        their arrivals, reactions and at-limit flags recorded; the environments still
-        running returned (one the stops cannot resolve stops alone)."""
-        lo, hi = self.robot.q_min, self.robot.q_max
-        crossed = ((q1 < lo) | (q1 > hi)).any(axis=1)
-        touched = active & (self._on_stop | crossed)
-        if not touched.any():
-            return active
-        if self._scratch is None:
-            self._scratch = Simulation(self.robot, dt=self.dt, integrator=self.integrator)
-        active = active.copy()
-        for i in np.flatnonzero(touched):
-            trial = (q1[i], qd1[i], qdd1[i]) if not self._on_stop[i] else None
-            out = self._scratch.step_through_stops(float(self.time[i]), q[i], qd[i], tau[i], trial)
-            if isinstance(out, str):
-                self._stop([i], lambda _, why=out: why)
-                active[i] = False
-                continue
-            q1[i], qd1[i], start_qdd, self.limit_torque[i], events = out
-            if start_qdd is not None:
-                qdd1[i] = start_qdd
-            self.events.extend((int(i), event) for event in events)
-            self.at_limit[i] = (q1[i] == lo) | (q1[i] == hi)
+        """The stops' part of the step, as in ``Simulation``: the stepper held the joints
+        resting on their stops; the environments it left to the caller (a start on a stop
+        it does not resolve, or a step that crossed a limit) are redone, in place in
+        ``result``, by ``Simulation.step_through_stops`` (the same code, so bit for bit a
+        Simulation); arrivals, reactions and at-limit flags recorded; the environments
+        still running returned (one the stops cannot resolve stops alone)."""
+        status = result.status
+        stepped = active & (status == dynamics.STEP_OK)
+        touched = stepped & (self._on_stop | result.at_limit.any(axis=1))
+        self.limit_torque[touched] = np.where(self._on_stop[touched, None], result.reaction[touched], 0.0)
+        self.at_limit[touched] = result.at_limit[touched]
+        redo = active & ((status == dynamics.STEP_AT_STOP) | (status == dynamics.STEP_CROSSED))
+        if redo.any():
+            if self._scratch is None:
+                self._scratch = Simulation(self.robot, dt=self.dt, integrator=self.integrator)
+            active = active.copy()
+            lo, hi = self.robot.q_min, self.robot.q_max
+            q1, qd1, qdd1 = result.q, result.qd, result.qdd
+            for i in np.flatnonzero(redo):
+                trial = (q1[i].copy(), qd1[i].copy(), qdd1[i].copy()) if status[i] == dynamics.STEP_CROSSED else None
+                out = self._scratch.step_through_stops(float(self.time[i]), q[i], qd[i], tau[i], trial)
+                if isinstance(out, str):
+                    self._stop([i], lambda _, why=out: why)
+                    active[i] = False
+                    continue
+                q1[i], qd1[i], start_qdd, self.limit_torque[i], events = out
+                if start_qdd is not None:
+                    qdd1[i] = start_qdd
+                self.events.extend((int(i), event) for event in events)
+                self.at_limit[i] = (q1[i] == lo) | (q1[i] == hi)
         self._on_stop = self.at_limit.any(axis=1)
         return active

@@ -25,8 +25,10 @@ One step of length h, in this order:
    on its stop at zero velocity whose acceleration pushes into it is held: the step
    integrates the dynamics with that joint's row and column removed, and
    :attr:`Simulation.limit_torque` is the stop's reaction torque.  It is released when
-   the reaction would pull (checked at the start of every step).  Steps that touch no
-   stop are computed exactly as without stops.
+   the reaction would pull (checked at the start of every step).  A step resting on
+   stops is one call of the compiled step like a free one (``dynamics.Stepper`` with
+   ``stops``: the held rows solved inside it); arrivals, impacts and releases go through
+   ``joint_stops``.  Steps that touch no stop are computed exactly as without stops.
 4. Velocity limits: the drive brakes a joint at its velocity limit (``qd`` clipped).
 
 A step whose state or effort is not finite (or whose mass matrix cannot be solved)
@@ -110,6 +112,14 @@ _ONE_TRUE = np.ones(1, dtype=bool)  # "the start acceleration is known" for one 
 
 class _Diverged(Exception):
     """A step produced a non-finite or unsolvable state; the message says which."""
+
+
+def _raise_for(status: int) -> None:
+    """_Diverged for a failed ``dynamics.Stepper`` status."""
+    if status == dynamics.STEP_BAD_STATE:
+        raise _Diverged("the joint state became non-finite")
+    if status == dynamics.STEP_BAD_ACCEL:
+        raise _Diverged("the joint acceleration became non-finite")
 
 
 def _finite(a: FloatArray) -> bool:
@@ -321,14 +331,29 @@ class Simulation:
         # The first stage's acceleration is known when the controller's model is the
         # simulated robot and nothing else acts (computed torque: its reference
         # acceleration, to round-off), which saves one forward dynamics per step.
+        known = None
+        if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
+            known = self.controller.commanded_acceleration()
         stops = None
-        if self._any_at_limit:
+        if f_tool is None:  # one stepper call; it holds joints resting on their stops itself
+            step = self._stepper_of().step(
+                q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE, stops=self._limit_position
+            )
+            status = step.status[0]
+            if status == dynamics.STEP_AT_STOP:
+                q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, None)
+            else:
+                _raise_for(status)
+                q1, qd1, qdd = step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
+                if status == dynamics.STEP_CROSSED:
+                    q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
+                elif self._any_at_limit or (self._limit_position and step.at_limit[0].any()):
+                    reaction = step.reaction[0].copy() if self._any_at_limit else self._no_reaction
+                    stops = [reaction, [], step.at_limit[0].copy()]
+        elif self._any_at_limit:
             q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, f_tool)
         else:
-            known = None
-            if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
-                known = self.controller.commanded_acceleration()
-            q1, qd1, qdd = self._integrate(q, qd, tau, f_tool, known)
+            q1, qd1, qdd = self._stepped(q, qd, tau, f_tool)[0]
             if self._limit_position and self._crosses(q1):
                 q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
         velocity_limited = self.velocity_limited
@@ -338,9 +363,9 @@ class Simulation:
         if not (_finite(q1) and _finite(qd1)):
             raise _Diverged("the joint state became non-finite")
         if stops is not None:
-            self.limit_torque, events = stops
+            self.limit_torque, events, *at_limit = stops
             self.events.extend(events)
-            self.at_limit = (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
+            self.at_limit = at_limit[0] if at_limit else (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
             self._any_at_limit = bool(self.at_limit.any())
         self.q, self.qd, self.qdd = q1, qd1, qdd
         self.effort_command, self.effort = command, tau
@@ -377,7 +402,14 @@ class Simulation:
     ) -> FloatArray:
         return self._dynamics(q, qd, tau, f_tool, held)[0]
 
-    def _integrate(
+    def _stepper_of(self) -> dynamics.Stepper:
+        """The one-arm stepper of this simulation's robot and integrator (made on first use)."""
+        stepper = self._stepper
+        if stepper is None or stepper.dt != self.dt or stepper.method != self._integrator:
+            stepper = self._stepper = dynamics.Stepper(self.robot, 1, self.dt, self._integrator)
+        return stepper
+
+    def _stepped(
         self,
         q: FloatArray,
         qd: FloatArray,
@@ -386,27 +418,26 @@ class Simulation:
         a1: FloatArray | None = None,
         h: float | None = None,
         locked: NDArray[np.bool_] | None = None,
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(q, qd) after a step of ``h`` (default ``dt``) with the ``locked`` joints held,
-        and the acceleration at its start (``a1`` when known)."""
+    ) -> tuple[tuple[FloatArray, FloatArray, FloatArray], FloatArray | None]:
+        """((q, qd) after a step of ``h`` (default ``dt``) with the ``locked`` joints held,
+        the acceleration at its start (``a1`` when known and nothing is locked)), and the
+        stops' reaction at the start (None without locked joints)."""
         if h is None:
             h = self.dt
-        if f_tool is None and locked is None and h == self.dt:  # one call of a dynamics.Stepper
-            stepper = self._stepper
-            if stepper is None or stepper.dt != h or stepper.method != self._integrator:
-                stepper = self._stepper = dynamics.Stepper(self.robot, 1, h, self._integrator)
-            step = stepper.step(q[None], qd[None], tau[None], None if a1 is None else a1[None], _ONE_TRUE)
-            status = step.status[0]
-            if status == dynamics.STEP_BAD_STATE:
-                raise _Diverged("the joint state became non-finite")
-            if status == dynamics.STEP_BAD_ACCEL:
-                raise _Diverged("the joint acceleration became non-finite")
-            return step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
-        if a1 is None or not _finite(a1):
-            a1 = self._accel(q, qd, tau, f_tool, locked)
+        if f_tool is None:  # one call of the dynamics.Stepper
+            step = self._stepper_of().step(
+                q[None], qd[None], tau[None], None if a1 is None else a1[None], _ONE_TRUE,
+                held=None if locked is None else locked[None], dt=h,
+            )
+            _raise_for(step.status[0])
+            reaction = None if locked is None else step.reaction[0].copy()
+            return (step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()), reaction
+        reaction = None
+        if a1 is None or locked is not None or not _finite(a1):
+            a1, reaction = self._dynamics(q, qd, tau, f_tool, locked)
         if self._integrator == "euler":
             qd1 = qd + h * a1
-            return q + h * qd1, qd1, a1
+            return (q + h * qd1, qd1, a1), reaction
         v2 = qd + 0.5 * h * a1
         a2 = self._accel(q + 0.5 * h * qd, v2, tau, f_tool, locked)
         v3 = qd + 0.5 * h * a2
@@ -415,7 +446,7 @@ class Simulation:
         a4 = self._accel(q + h * v3, v4, tau, f_tool, locked)
         q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
         qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
-        return q1, qd1, a1
+        return (q1, qd1, a1), reaction
 
     # ------------------------------------------------------------------ joint stops
     def _crosses(self, q: FloatArray) -> bool:
@@ -470,11 +501,11 @@ class Simulation:
                 into = on & (qd != 0.0) & (push * qd <= 0.0)
                 if into.any():
                     qd = self._impact(q, qd, push, on, into, 0.0, events)
-            locked, a1, reaction = self._rest(q, qd, tau, f_tool, push, on)
+            locked, trial, reaction = self._rest(q, qd, tau, f_tool, push, on, h)
         qdd = None
         for _ in range(self._max_arrivals):
             if trial is None:
-                trial = self._integrate(q, qd, tau, f_tool, a1, h, locked)
+                trial = self._stepped(q, qd, tau, f_tool, None, h, locked)[0]
             q1, qd1, a1 = trial
             if qdd is None:
                 qdd = a1
@@ -488,8 +519,7 @@ class Simulation:
             q, qd = q1, self._impact(q1, qd1, push, on, arriving, elapsed, events)
             if h <= 0.0:
                 return q, qd, qdd, reaction, events
-            locked, a1, _ = self._rest(q, qd, tau, f_tool, push, on)
-            trial = None
+            locked, trial, _ = self._rest(q, qd, tau, f_tool, push, on, h)
         raise _Diverged(f"more than {self._max_arrivals} joint stop arrivals in one step")
 
     def _rest(
@@ -500,24 +530,25 @@ class Simulation:
         f_tool: FloatArray | None,
         push: FloatArray,
         on: NDArray[np.bool_],
-    ) -> tuple[NDArray[np.bool_] | None, FloatArray | None, FloatArray]:
-        """Which joints on a stop at rest the stops hold (None: none), the acceleration at
-        (q, qd) with them held (None: not computed) and the stops' reaction torque.
-        Holding every candidate is the answer when every reaction pushes (one constrained
-        forward dynamics, the common case of a joint that stays); otherwise
+        h: float,
+    ) -> tuple[NDArray[np.bool_] | None, tuple[FloatArray, FloatArray, FloatArray] | None, FloatArray]:
+        """Which joints on a stop at rest the stops hold (None: none), the step of length h
+        from (q, qd) with them held (None: not taken yet) and the stops' reaction torque.
+        Holding every candidate is the answer when every reaction pushes (one step with
+        them held, the common case of a joint that stays); otherwise
         ``joint_stops.hold`` solves the complementarity problem."""
         candidates = on & (qd == 0.0)
         if not candidates.any():
             return None, None, self._no_reaction
-        qdd, reaction = self._dynamics(q, qd, tau, f_tool, candidates)
+        trial, reaction = self._stepped(q, qd, tau, f_tool, None, h, candidates)
         if (push * reaction >= 0.0).all():
-            return candidates, qdd, reaction
+            return candidates, trial, reaction
         M = dynamics.mass_matrix(self.robot, q)
         rhs = tau - dynamics.bias_torque(self.robot, q, qd, f_tool=f_tool)
-        qdd, reaction, locked = joint_stops.hold(M, rhs, push, candidates)
+        _, reaction, locked = joint_stops.hold(M, rhs, push, candidates)
         if not locked.any():
-            return None, qdd, self._no_reaction
-        return locked, qdd, reaction
+            return None, None, self._no_reaction
+        return locked, None, reaction
 
     def _impact(
         self,
@@ -580,7 +611,7 @@ class Simulation:
             if not s_lo < s_new < crossed[0]:
                 s_new = 0.5 * (s_lo + crossed[0])
             s = float(s_new)
-            q1, qd1, _ = self._integrate(q, qd, tau, f_tool, a1, s * h, locked)
+            q1, qd1, _ = self._stepped(q, qd, tau, f_tool, a1, s * h, locked)[0]
         else:
             s, q1, qd1 = crossed  # bracket closed on a grazing arrival: take its end
         q1 = q1.copy()
