@@ -395,6 +395,30 @@ def test_cloud_frames_equal_drawing_the_cloud_afresh(render: Frames) -> None:
     assert_as_fresh(after, "camera zoomed")
 
 
+def test_cloud_from_the_background_picture_equals_the_cloud_drawn_in_the_frame(render: Frames) -> None:
+    """The cloud drawn once into the background picture and copied into each frame gives
+    the frame that drawing it among the other opaque items gives, pixel for pixel."""
+    from robot_sim.graphics.items.cloud import CloudItem
+
+    kin = posed("spherical")
+    rng = np.random.default_rng(5)
+    points = rng.uniform([-0.8, -0.8, 0.0], [0.8, 0.8, 1.4], size=(20_000, 3))
+    scene = go.Scene(kin, workspace=go.WorkspaceCloud(points, points[:, 2]))
+    camera = framed(key_points(kin))
+    options = options_for(kin)
+    options.show_workspace = True
+    item = render.renderer.view.item(CloudItem)
+    cached = [render(camera, scene, options) for _ in range(2)]
+    item.cached = False  # type: ignore[misc] - this one instance draws in the frame
+    try:
+        direct = render(camera, scene, options)
+    finally:
+        del item.cached
+    assert robot_mask(direct, render(camera, go.Scene(kin), options)).sum() > 1000, "the cloud hardly shows"
+    for k, picture in enumerate(cached):
+        assert np.array_equal(picture, direct), f"frame {k}: {np.count_nonzero(np.any(picture != direct, axis=2))} pixels differ"
+
+
 def test_large_workspace_cloud_renders(render: Frames) -> None:
     kin = posed("spherical")
     rng = np.random.default_rng(0)

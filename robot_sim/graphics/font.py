@@ -149,14 +149,16 @@ class GlyphAtlas:
             if g.width > 2 * (self.halo + 1):
                 cells.append((pen + g.left, baseline + g.top, g))
             pen += g.advance
-        quads = np.zeros((len(cells), 4, 4), dtype=np.float32)
+        # per glyph: x, y on the picture, x, y in the atlas, width, height (pixels)
+        cell = np.array([(cx, cy, g.x, g.y, g.width, g.height) for cx, cy, g in cells], dtype=float).reshape(-1, 6)
+        right = np.array([0.0, 1.0, 1.0, 0.0])  # corners' share of the width, then of the height
+        down = np.array([0.0, 0.0, 1.0, 1.0])
         h, w = self.image.shape[:2]
-        for k, (cx, cy, g) in enumerate(cells):
-            px = np.array([cx, cx + g.width, cx + g.width, cx])
-            py = np.array([cy, cy, cy + g.height, cy + g.height])
-            u = np.array([g.x, g.x + g.width, g.x + g.width, g.x]) / w
-            v = np.array([g.y, g.y, g.y + g.height, g.y + g.height]) / h
-            quads[k] = np.stack([px, py, u, v], axis=1)
+        quads = np.empty((len(cells), 4, 4), dtype=np.float32)
+        quads[..., 0] = cell[:, :1] + cell[:, 4:5] * right
+        quads[..., 1] = cell[:, 1:2] + cell[:, 5:6] * down
+        quads[..., 2] = (cell[:, 2:3] + cell[:, 4:5] * right) / w
+        quads[..., 3] = (cell[:, 3:4] + cell[:, 5:6] * down) / h
         return quads
 
 

@@ -6,6 +6,11 @@ Layers, in drawing order: ``opaque`` (lit, depth written; also drawn into the sh
 when ``casts_shadow``), ``translucent`` (blended, depth tested, not written), ``overlay``
 (over a cleared depth buffer: frames, target, arrows, annotation lines) and ``text``
 (labels in pixels).  Within a layer items are drawn by ``order``.
+
+An opaque item that is ``cached`` (the workspace cloud: costly to draw, and the same
+while the camera stands still) is drawn into the view's background picture, with the
+clear colour and its depth, only when that picture changes; each frame then starts from
+a copy of it (:class:`~robot_sim.graphics.render.View`).
 """
 from __future__ import annotations
 
@@ -29,6 +34,7 @@ class Item:
     layer: ClassVar[str] = "opaque"
     order: ClassVar[float] = 0.0
     casts_shadow: ClassVar[bool] = False
+    cached: ClassVar[bool] = False
 
     def __init__(self) -> None:
         self.visible = True
@@ -48,6 +54,11 @@ class Item:
     def shadow_key(self) -> object:
         """A value that changes whenever this item's shadow does (the shadow map is
         redrawn only then)."""
+        return None
+
+    def cache_key(self) -> object:
+        """A value that changes whenever what a ``cached`` item draws does, the camera
+        aside (its background picture is redrawn only then, or when the view moves)."""
         return None
 
     def bounds(self) -> NDArray[np.float64]:

@@ -53,14 +53,18 @@ def boxes_overlap(a: NDArray[np.float64], b: NDArray[np.float64], margin: float 
             & (a[1] - margin < b[:, 3]) & (b[:, 1] < a[3] + margin))
 
 
-def segments_hit_box(box: NDArray[np.float64], segments: NDArray[np.float64]) -> NDArray[np.bool_]:
+def segments_hit_box(box: ArrayLike, segments: ArrayLike) -> NDArray[np.bool_]:
     """Whether each segment of ``segments`` (K, 2, 2) crosses or lies in ``box`` (4,)
-    (Liang–Barsky clipping, all segments at once)."""
+    (Liang–Barsky clipping, all segments at once): (K,); for boxes (C, 4), (C, K)."""
+    boxes = np.asarray(box, dtype=float)
+    single = boxes.ndim == 1
+    boxes = boxes.reshape(-1, 1, 4)
     segments = np.asarray(segments, dtype=float).reshape(-1, 2, 2)
     p0, d = segments[:, 0], segments[:, 1] - segments[:, 0]
-    t0, t1 = np.zeros(len(segments)), np.ones(len(segments))
-    hit = np.all(np.isfinite(segments.reshape(-1, 4)), axis=1)
-    for axis, (lo, hi) in enumerate(((box[0], box[2]), (box[1], box[3]))):
+    shape = (len(boxes), len(segments))
+    t0, t1 = np.zeros(shape), np.ones(shape)
+    hit = np.broadcast_to(np.all(np.isfinite(segments.reshape(-1, 4)), axis=1), shape).copy()
+    for axis, (lo, hi) in enumerate(((boxes[..., 0], boxes[..., 2]), (boxes[..., 1], boxes[..., 3]))):
         for p, q in ((-d[:, axis], p0[:, axis] - lo), (d[:, axis], hi - p0[:, axis])):
             parallel = p == 0.0
             hit &= ~(parallel & (q < 0.0))  # parallel to this edge and outside it
@@ -68,15 +72,16 @@ def segments_hit_box(box: NDArray[np.float64], segments: NDArray[np.float64]) ->
                 r = np.where(parallel, 0.0, q / np.where(parallel, 1.0, p))
             t0 = np.where(~parallel & (p < 0.0), np.maximum(t0, r), t0)
             t1 = np.where(~parallel & (p > 0.0), np.minimum(t1, r), t1)
-    return hit & (t0 <= t1)
+    hit &= t0 <= t1
+    return hit[0] if single else hit
 
 
-def _overlap_area(box: NDArray[np.float64], others: NDArray[np.float64]) -> float:
-    if not len(others):
-        return 0.0
-    w = np.clip(np.minimum(box[2], others[:, 2]) - np.maximum(box[0], others[:, 0]), 0.0, None)
-    h = np.clip(np.minimum(box[3], others[:, 3]) - np.maximum(box[1], others[:, 1]), 0.0, None)
-    return float(np.sum(w * h))
+def _overlap_areas(boxes: NDArray[np.float64], others: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Total area (C,) by which each of ``boxes`` (C, 4) overlaps ``others`` (M, 4)."""
+    b, o = boxes[:, None, :], others[None, :, :]
+    w = np.clip(np.minimum(b[..., 2], o[..., 2]) - np.maximum(b[..., 0], o[..., 0]), 0.0, None)
+    h = np.clip(np.minimum(b[..., 3], o[..., 3]) - np.maximum(b[..., 1], o[..., 1]), 0.0, None)
+    return np.sum(w * h, axis=1)
 
 
 def candidate_boxes(anchor: NDArray[np.float64], size: tuple[float, float],
@@ -85,17 +90,13 @@ def candidate_boxes(anchor: NDArray[np.float64], size: tuple[float, float],
     the usual place (``offset`` right of and above the anchor), then the rings."""
     w, h = float(size[0]), float(size[1])
     dx, dy = float(offset[0]), float(offset[1])
-    usual = np.array([anchor[0] + dx, anchor[1] - dy - h, anchor[0] + dx + w, anchor[1] - dy])
-    out = [usual]
-    step = RING_STEP_LINES * h
-    for ring in range(1, RINGS + 1):
-        r = ring * step
-        for ux, uy in _DIRECTIONS:
-            # the box's corner (or edge middle) nearest the anchor sits r away along the direction
-            left = anchor[0] + ux * (r + dx) - (w if ux < 0 else (0.5 * w if ux == 0 else 0.0))
-            top = anchor[1] + uy * (r + dy) - (h if uy < 0 else (0.5 * h if uy == 0 else 0.0))
-            out.append(np.array([left, top, left + w, top + h]))
-    return np.array(out)
+    usual = np.array([[anchor[0] + dx, anchor[1] - dy - h, anchor[0] + dx + w, anchor[1] - dy]])
+    r = RING_STEP_LINES * h * np.repeat(np.arange(1, RINGS + 1), len(_DIRECTIONS))
+    ux, uy = np.tile(_DIRECTIONS, (RINGS, 1)).T
+    # the box's corner (or edge middle) nearest the anchor sits r away along the direction
+    left = anchor[0] + ux * (r + dx) - np.where(ux < 0, w, np.where(ux == 0, 0.5 * w, 0.0))
+    top = anchor[1] + uy * (r + dy) - np.where(uy < 0, h, np.where(uy == 0, 0.5 * h, 0.0))
+    return np.vstack([usual, np.stack([left, top, left + w, top + h], axis=1)])
 
 
 def _leader(anchor: NDArray[np.float64], box: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -125,18 +126,15 @@ def place_labels(anchors: ArrayLike, sizes: Sequence[tuple[float, float]], viewp
             continue
         placed = np.vstack([fixed, boxes[:k][np.all(np.isfinite(boxes[:k]), axis=1)]])
         candidates = candidate_boxes(anchor, sizes[k], offset)
-        best, best_cost = 0, np.inf
-        for c, box in enumerate(candidates):
-            inside = box[0] >= 0.0 and box[1] >= 0.0 and box[2] <= width and box[3] <= height
-            grown = box + np.array([-margin, -margin, margin, margin])
-            crossings = int(np.count_nonzero(segments_hit_box(grown, segments)))
-            overlap = _overlap_area(grown, placed)
-            if inside and crossings == 0 and overlap == 0.0:
-                best, best_cost = c, 0.0
-                break
-            cost = overlap + 50.0 * crossings + (0.0 if inside else 1e6) + c  # least bad, nearest
-            if cost < best_cost:
-                best, best_cost = c, cost
+        inside = ((candidates[:, 0] >= 0.0) & (candidates[:, 1] >= 0.0)
+                  & (candidates[:, 2] <= width) & (candidates[:, 3] <= height))
+        grown = candidates + np.array([-margin, -margin, margin, margin])
+        crossings = np.count_nonzero(segments_hit_box(grown, segments), axis=1)
+        overlap = _overlap_areas(grown, placed)
+        free = np.flatnonzero(inside & (crossings == 0) & (overlap == 0.0))
+        # the nearest free candidate, else the least bad (nearest among equals)
+        cost = overlap + 50.0 * crossings + np.where(inside, 0.0, 1e6) + np.arange(len(candidates))
+        best = int(free[0]) if len(free) else int(np.argmin(cost))
         boxes[k] = candidates[best]
         if best != 0:
             moved[k] = True

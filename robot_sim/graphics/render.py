@@ -8,6 +8,11 @@ multisampled target cleared to the theme's background, the opaque layer, the
 translucent layer, the overlay layer over a cleared depth buffer and the text layer;
 last the samples are resolved into the host's framebuffer.
 
+Cached items (``Item.cached``: the workspace cloud) are drawn over the cleared
+background into a second multisampled target, the background picture, only when it
+changes (the view, the size, the theme or an item's ``cache_key``); a frame then starts
+from a copy of its colour and depth samples instead of a clear, and draws the rest.
+
 The default items are every ``ITEM`` declared by a module of
 :mod:`robot_sim.graphics.items`: adding a drawable is adding a file there.  A host may
 also append its own items to ``view.items``.
@@ -43,6 +48,13 @@ def item_classes() -> list[type[Item]]:
     return found
 
 
+def _clear(palette: Theme) -> None:
+    """Clear the bound framebuffer's colour to the theme's background and its depth."""
+    GL.glClearColor(*palette.background)
+    GL.glDepthMask(GL.GL_TRUE)
+    GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
+
+
 def _layer_state(layer: str) -> None:
     """GL state of a layer (set at its start)."""
     GL.glEnable(GL.GL_DEPTH_TEST)
@@ -76,6 +88,8 @@ class View:
         self._msaa: MultisampleTarget | None = None
         self._shadow = ShadowTarget(gd.SHADOW_MAP_SIZE)
         self._shadow_state: object = None
+        self._background: MultisampleTarget | None = None
+        self._background_key: object = None
 
     def item(self, cls: type[Item]) -> Item:
         """The first item of type ``cls`` (KeyError when there is none)."""
@@ -107,6 +121,7 @@ class View:
         if self._resources is not None:
             self._resources.release(current=False)
         self._resources, self._msaa, self._shadow_state = None, None, None
+        self._background, self._background_key = None, None
         self._shadow = ShadowTarget(gd.SHADOW_MAP_SIZE)
 
     def release(self) -> None:
@@ -115,10 +130,12 @@ class View:
             item.release(current=True)
         if self._resources is not None:
             self._resources.release(current=True)
-        if self._msaa is not None:
-            self._msaa.delete()
+        for target in (self._msaa, self._background):
+            if target is not None:
+                target.delete()
         self._shadow.delete()
         self._resources, self._msaa, self._shadow_state, self._context = None, None, None, 0
+        self._background, self._background_key = None, None
 
     def _light(self, camera: Camera, options: GraphicsOptions, frame_items: list[Item]) -> Light:
         key = key_light()
@@ -150,6 +167,24 @@ class View:
             item.paint_depth(drawing)
         GL.glDisable(GL.GL_POLYGON_OFFSET_FILL)
         self._shadow.end(previous)
+
+    def _start_from_background(self, frame: Frame, msaa: MultisampleTarget, cached: list[Item]) -> None:
+        """Fill ``msaa`` (bound) with the background picture: the cleared background and
+        the ``cached`` items, redrawn first when any of what it shows changed."""
+        key = (frame.view_proj.tobytes(), frame.width, frame.height, msaa.samples, frame.theme.background,
+               tuple((id(item), item.cache_key()) for item in cached))
+        if self._background is None or self._background.samples != msaa.samples:
+            if self._background is not None:
+                self._background.delete()
+            self._background, self._background_key = MultisampleTarget(msaa.samples), None
+        if key != self._background_key:
+            self._background.bind(frame.width, frame.height)
+            _clear(frame.theme)
+            _layer_state("opaque")
+            for item in sorted(cached, key=lambda i: i.order):
+                item.paint(frame)
+            self._background_key = key
+        msaa.copy_from(self._background)
 
     def render(self, camera: Camera, scene: Scene, options: GraphicsOptions, width: int, height: int) -> None:
         """Draw ``scene`` seen by ``camera`` with ``options`` into the current context's
@@ -190,18 +225,21 @@ class View:
             msaa = self._msaa
             msaa.begin(width, height)
         GL.glViewport(0, 0, width, height)
-        GL.glClearColor(*palette.background)
-        GL.glDepthMask(GL.GL_TRUE)
-        GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
         GL.glActiveTexture(GL.GL_TEXTURE0 + SHADOW_UNIT)
         GL.glBindTexture(GL.GL_TEXTURE_2D, self._shadow.texture if light.shadows else 0)
         GL.glActiveTexture(GL.GL_TEXTURE0)
         frame = Frame(camera, options, width, height, palette, light, resources)
+        cached = [item for item in shown if item.cached and item.layer == "opaque"] if msaa is not None else []
+        if cached:
+            assert msaa is not None
+            self._start_from_background(frame, msaa, cached)
+        else:
+            _clear(palette)
         for layer in LAYERS:
             _layer_state(layer)
             if layer == "overlay":
                 GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-            for item in sorted((i for i in shown if i.layer == layer), key=lambda i: i.order):
+            for item in sorted((i for i in shown if i.layer == layer and i not in cached), key=lambda i: i.order):
                 item.paint(frame)
         if msaa is not None:
             msaa.end()

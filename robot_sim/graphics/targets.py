@@ -51,8 +51,13 @@ class MultisampleTarget:
         self._buffers, self._size = (color, depth), (width, height)
 
     def begin(self, width: int, height: int) -> None:
-        """Bind the target (rebuilt when the size changed) for a ``width`` x ``height`` frame."""
+        """Bind the target (rebuilt when the size changed) for a ``width`` x ``height``
+        frame, remembering the framebuffer bound before (where :meth:`end` resolves to)."""
         self._host = int(GL.glGetIntegerv(GL.GL_DRAW_FRAMEBUFFER_BINDING))
+        self.bind(width, height)
+
+    def bind(self, width: int, height: int) -> None:
+        """Bind the target for drawing, rebuilt when its size is not ``width`` x ``height``."""
         if self._size != (width, height) or not self._fbo:
             self._build(width, height)
         GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, self._fbo)
@@ -64,6 +69,16 @@ class MultisampleTarget:
         GL.glBindFramebuffer(GL.GL_DRAW_FRAMEBUFFER, self._host)
         GL.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL.GL_COLOR_BUFFER_BIT, GL.GL_NEAREST)
         GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, self._host)
+
+    def copy_from(self, other: MultisampleTarget) -> None:
+        """Copy the colour and depth samples of ``other`` (same samples and size) into
+        this target, which stays bound (cheaper on llvmpipe than clearing them)."""
+        width, height = self._size
+        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, other._fbo)
+        GL.glBindFramebuffer(GL.GL_DRAW_FRAMEBUFFER, self._fbo)
+        GL.glBlitFramebuffer(0, 0, width, height, 0, 0, width, height,
+                             GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT, GL.GL_NEAREST)
+        GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, self._fbo)
 
     def delete(self) -> None:
         """Delete the framebuffer and its renderbuffers (their context must be current)."""

@@ -18,12 +18,14 @@ class CloudItem(Item):
 
     layer = "opaque"
     order = 0.0
+    cached = True  # 200 000 points cost llvmpipe more than the rest of a frame
 
     def __init__(self) -> None:
         super().__init__()
         self.cloud: WorkspaceCloud | None = None
         self._buffer: StaticPoints | None = None
         self._dead: list[StaticPoints] = []
+        self._version = 0  # counts the clouds shown
 
     def update(self, scene: Scene, options: GraphicsOptions) -> None:
         cloud = scene.workspace if options.show_workspace else None
@@ -32,6 +34,10 @@ class CloudItem(Item):
             if self._buffer is not None:
                 self._dead.append(self._buffer)
             self.cloud, self._buffer = cloud, StaticPoints(cloud.points, cloud.colors)
+            self._version += 1
+
+    def cache_key(self) -> object:
+        return self._version
 
     def paint(self, frame: Frame) -> None:
         for buffer in self._dead:

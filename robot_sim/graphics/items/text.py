@@ -61,22 +61,25 @@ class LabelsItem(Item):
         glyphs = atlas()
         self.labels = list(frame.labels)
         self.placement = self.place(frame, glyphs)
-        rows = []
+        quads, colors = [], []
         written = [(box, text, rgba) for box, (_, text, rgba) in zip(self.placement.boxes, self.labels)] + frame.texts
         for box, text, rgba in written:
-            if not np.all(np.isfinite(box)):
-                continue
-            for quad in glyphs.layout(text, box[0], box[1]):  # two triangles a glyph: (x, y, 0), uv, colour
-                corners = quad[[0, 1, 2, 0, 2, 3]]
-                rows.append(np.c_[corners[:, :2], np.zeros(6), corners[:, 2:], np.zeros(6), np.tile(rgba, (6, 1))])
+            if np.all(np.isfinite(box)):
+                quads.append(glyphs.layout(text, box[0], box[1]))
+                colors.append(np.tile(rgba, (len(quads[-1]), 1)))
         self._paint_leaders(frame)
-        if not rows:
+        if not quads or not sum(len(q) for q in quads):
             return
+        # two triangles a glyph, each corner: (x, y, 0), (u, v, 0), colour
+        corners = np.concatenate(quads)[:, [0, 1, 2, 0, 2, 3]].reshape(-1, 4)
+        rows = np.zeros((len(corners), 10), dtype=np.float32)
+        rows[:, [0, 1, 3, 4]] = corners
+        rows[:, 6:] = np.repeat(np.concatenate(colors), 6, axis=0)
         self._bind_atlas(glyphs)
         program = frame.resources.programs["text"].use()
         program.set("u_viewport", (float(frame.width), float(frame.height))).set("u_atlas", 0)
         program.set("u_halo_color", frame.theme.halo)
-        n = frame.resources.stream.attributes(np.vstack(rows), ((POSITION, 3), (NORMAL, 3), (COLOR, 4)))
+        n = frame.resources.stream.attributes(rows, ((POSITION, 3), (NORMAL, 3), (COLOR, 4)))
         GL.glDrawArrays(GL.GL_TRIANGLES, 0, n)
         GL.glDisableVertexAttribArray(NORMAL)
         GL.glDisableVertexAttribArray(COLOR)
@@ -86,9 +89,11 @@ class LabelsItem(Item):
         """Where the frame's labels go: clear of each other, its obstacles and its texts."""
         if not frame.labels:
             return place_labels(np.zeros((0, 2)), [], (frame.width, frame.height))
-        project = frame.camera.project
-        anchors = project(np.array([p for p, _, _ in frame.labels]), frame.width, frame.height)
-        lines = polyline_segments([project(points, frame.width, frame.height) for points in frame.obstacles])
+        # every anchor and obstacle point projected at once
+        points = [np.array([p for p, _, _ in frame.labels]), *frame.obstacles]
+        pixels = frame.camera.project(np.concatenate(points), frame.width, frame.height)
+        anchors, *lines = np.split(pixels, np.cumsum([len(p) for p in points])[:-1])
+        lines = polyline_segments(lines)
         taken = np.array([box for box, _, _ in frame.texts]).reshape(-1, 4)
         return place_labels(anchors, [glyphs.text_size(text) for _, text, _ in frame.labels],
                             (frame.width, frame.height), lines, taken)
