@@ -12,9 +12,7 @@ import argparse
 import math
 import os
 import platform
-import subprocess
 import sys
-import tempfile
 import time
 import tracemalloc
 from pathlib import Path
@@ -32,7 +30,6 @@ from robot_sim.kinematics import (
     jacobian,
     random_configurations,
     solve_ik,
-    workspace_points,
 )
 from bench_dynamics import bench_dynamics  # noqa: E402
 from bench_trajectory import bench_trajectory  # noqa: E402
@@ -40,14 +37,13 @@ from robot_sim.model.convert import to_modified, to_standard  # noqa: E402
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
 from robot_sim.model.state import RobotState  # noqa: E402
-import bench_sim  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
+import bench_render  # noqa: E402  (benchmarks/ is on sys.path when bench.py runs)
+import bench_sim  # noqa: E402
 from bench_collision import bench_collision  # noqa: E402
 from timing import Table, measure, median_iqr, ms, us  # noqa: E402
 
 ROBOT = "humanoid7"
 IK_TARGETS = 200
-CLOUD_POINTS = 200_000
-FRAME_SIZE = (800, 600)
 
 
 # ----------------------------------------------------------------------------- baseline
@@ -224,53 +220,6 @@ def bench_ik(table: Table, robots: list[RobotParams], rng: np.random.Generator) 
         )
 
 
-def bench_render(table: Table, robot: RobotParams) -> None:
-    from robot_sim.graphics import (
-        Camera,
-        GraphicsOptions,
-        OffscreenRenderer,
-        Scene,
-        WorkspaceCloud,
-        robot_reach,
-    )
-
-    kin = Kinematics(robot)
-    options = GraphicsOptions(robot.n_dofs + 1)
-    options.toggle_all_frames()
-    camera = Camera()
-    camera.fit(np.vstack([kin.frames[:, :3, 3], [[robot_reach(robot)] * 3, [-robot_reach(robot)] * 3]]))
-    points, manip = workspace_points(robot, CLOUD_POINTS, seed=0)
-    width, height = FRAME_SIZE
-    with OffscreenRenderer(width, height) as renderer:
-        plain = Scene(kinematics=kin)
-        med, iqr = median_iqr(measure(lambda: renderer.render(camera, plain, options), repeats=30))
-        table.add(f"offscreen frame {width}×{height}, {robot.name}, all frames", ms(med), ms(iqr), target="≤ 5 ms")
-        cloud = Scene(kinematics=kin, workspace=WorkspaceCloud(points, manip))
-        options.show_workspace = True
-        med, iqr = median_iqr(measure(lambda: renderer.render(camera, cloud, options), repeats=30))
-        table.add(f"same + {CLOUD_POINTS:,}-point workspace cloud, camera still", ms(med), ms(iqr), target="≤ 15 ms")
-
-        def orbiting() -> None:
-            camera.orbit(1.0, 0.0)  # a new view every frame: the cloud's cached picture never applies
-            renderer.render(camera, cloud, options)
-
-        med, iqr = median_iqr(measure(orbiting, repeats=30))
-        table.add(f"same + {CLOUD_POINTS:,}-point workspace cloud, camera orbiting", ms(med), ms(iqr))
-
-
-def bench_screenshot(table: Table) -> None:
-    """Start to PNG, kinematic and with the physics on (``--motion ct``: numba imported and
-    the compiled dynamics kernels loaded from their cache, which the first run fills)."""
-    for extra in ([], ["--motion", "ct"]):
-        with tempfile.TemporaryDirectory() as tmp:
-            png = Path(tmp) / "s.png"
-            cmd = [sys.executable, str(ROOT / "simulator.py"), *extra, "--screenshot", str(png)]
-            env = dict(os.environ, PYOPENGL_PLATFORM="osmesa")
-            med, iqr = median_iqr(measure(lambda: subprocess.run(cmd, check=True, env=env, cwd=ROOT), repeats=7))
-        table.add(f"`python simulator.py {' '.join(extra + ['--screenshot'])}` wall time, start to PNG",
-                  ms(med), ms(iqr), target="≤ 1.5 s")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--skip-render", action="store_true", help="kinematics rows only")
@@ -291,8 +240,8 @@ def main() -> None:
     bench_sim.bench_simulation(table, measure, median_iqr, us)
     bench_collision(table, measure, median_iqr, us)
     if not args.skip_render:
-        bench_render(table, robot)
-        bench_screenshot(table)
+        bench_render.bench_frames(table)
+        bench_render.bench_screenshot(table)
     cpu = next((l.split(":", 1)[1].strip() for l in Path("/proc/cpuinfo").read_text().splitlines() if l.startswith("model name")), platform.processor())
     print(f"\nMachine: {cpu}, {os.cpu_count()} cores, Python {platform.python_version()}, NumPy {np.__version__}\n")
     table.print()
