@@ -80,6 +80,8 @@ _EXPORTS = {
     "CollisionChecker": "robot_sim.collision.checker",
     "DistanceResult": "robot_sim.collision.distance",
     "shape_distance": "robot_sim.collision.distance",
+    "ContactModel": "robot_sim.collision.contact",
+    "ContactForce": "robot_sim.collision.contact",
 }
 
 __all__ = sorted(_EXPORTS)

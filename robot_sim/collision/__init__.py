@@ -8,6 +8,7 @@ from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphe
 from robot_sim.model.world import World
 
 from robot_sim.collision.checker import CollisionChecker, DistanceResult, PairContact
+from robot_sim.collision.contact import ContactForce, ContactModel
 
-__all__ = ["Box", "Capsule", "CollisionChecker", "Cylinder", "DistanceResult", "HalfSpace", "Mesh", "PairContact",
-           "Sphere", "World"]
+__all__ = ["Box", "Capsule", "CollisionChecker", "ContactForce", "ContactModel", "Cylinder", "DistanceResult",
+           "HalfSpace", "Mesh", "PairContact", "Sphere", "World"]

@@ -31,6 +31,14 @@ One step of length h, in this order:
    ``joint_stops``.  Steps that touch no stop are computed exactly as without stops.
 4. Velocity limits: the drive brakes a joint at its velocity limit (``qd`` clipped).
 
+Contact (``checker=``, a :class:`~robot_sim.collision.CollisionChecker` of the robot):
+links that meet an obstacle, the floor or each other get penalty contact forces
+(:mod:`robot_sim.collision.contact`, Coulomb friction ``friction``).  At the start of a
+step the pairs near contact are chosen and their gains and friction anchors fixed; the
+contact torque then enters the dynamics at every stage of the integrator, as a
+function of that stage's (q, qd).  Steps with no pair near contact are computed exactly
+as without contact.
+
 A step whose state or effort is not finite (or whose mass matrix cannot be solved)
 does not happen: the simulation keeps the last finite state, stops, and
 :attr:`Simulation.stopped` says why.
@@ -49,6 +57,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.collision.checker import CollisionChecker
+from robot_sim.collision.contact import DEFAULT_FRICTION, ContactForce, ContactModel
 from robot_sim.control import joint_stops
 from robot_sim.control.controllers import Controller, Passive
 from robot_sim.kinematics import Kinematics
@@ -136,6 +146,9 @@ class Simulation:
     :meth:`step` or :meth:`advance`.  ``controller`` defaults to :class:`control.Passive`.
     ``dt`` is the fixed step [s]; ``integrator`` ``"rk4"`` or ``"euler"`` (semi-implicit).
     ``restitution`` in [0, 1] is the joint stops' coefficient of restitution (0: inelastic).
+    ``checker`` (a CollisionChecker of ``robot``) turns on contact with its world and
+    between its checked links, with Coulomb ``friction`` μ >= 0 (0.5 unless given; module
+    docstring).
     """
 
     def __init__(
@@ -149,6 +162,8 @@ class Simulation:
         reference: Reference | None = None,
         max_lag: float = DEFAULT_MAX_LAG,
         restitution: float = 0.0,
+        checker: CollisionChecker | None = None,
+        friction: float = DEFAULT_FRICTION,
     ) -> None:
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
@@ -157,6 +172,12 @@ class Simulation:
         if state is not None and state.robot.n_dofs != robot.n_dofs:
             raise ValueError(f"state must be a RobotState of a robot with {robot.n_dofs} joints, got {state.robot.n_dofs}")
         dynamics.mass_matrix(robot, robot.q_home)  # fails now, naming the link, without inertials
+        if checker is not None and (not isinstance(checker, CollisionChecker) or checker.robot is not robot):
+            raise ValueError("checker must be a CollisionChecker built for this simulation's robot, got "
+                             f"{checker!r}")
+        #: Penalty contact (None without a checker); ``contact.forces`` are the touching pairs.
+        self.contact = ContactModel(checker, friction=friction) if checker is not None else None
+        self._touching = False  # some pair is active in the current step
         self.robot = robot
         self.state = state if state is not None else RobotState(robot)
         self.controller: Controller = controller if controller is not None else Passive(robot)
@@ -238,6 +259,8 @@ class Simulation:
         self._any_at_limit = bool(self.at_limit.any())
         self.stopped = None
         self._pending = 0.0
+        if self.contact is not None:
+            self.contact.reset()
         self._published = (self.state.q(), self.state.qd())
 
     def _follow_state(self) -> None:
@@ -328,14 +351,16 @@ class Simulation:
         saturated = np.abs(command) > self.effort_limit if self._limit_effort else self.saturated
         tau = np.clip(command, -self.effort_limit, self.effort_limit) if saturated.any() else command
         f_tool = self._pull_wrench(q, qd)
+        self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
         # The first stage's acceleration is known when the controller's model is the
         # simulated robot and nothing else acts (computed torque: its reference
         # acceleration, to round-off), which saves one forward dynamics per step.
         known = None
-        if tau is command and f_tool is None and getattr(self.controller, "robot", None) is self.robot:
+        plain = f_tool is None and not self._touching  # nothing but the effort acts
+        if tau is command and plain and getattr(self.controller, "robot", None) is self.robot:
             known = self.controller.commanded_acceleration()
         stops = None
-        if f_tool is None:  # one stepper call; it holds joints resting on their stops itself
+        if plain:  # one stepper call; it holds joints resting on their stops itself
             step = self._stepper_of().step(
                 q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE, stops=self._limit_position
             )
@@ -384,6 +409,7 @@ class Simulation:
     ) -> tuple[FloatArray, FloatArray | None]:
         """q̈ at (q, qd) with the ``held`` joints locked on their stops (None: none) and
         the stops' reaction (None without held joints)."""
+        tau = self._with_contact(q, qd, tau)
         try:
             if held is None:
                 qdd, torque = dynamics.forward_dynamics(self.robot, q, qd, tau, f_tool=f_tool), None
@@ -424,7 +450,7 @@ class Simulation:
         stops' reaction at the start (None without locked joints)."""
         if h is None:
             h = self.dt
-        if f_tool is None:  # one call of the dynamics.Stepper
+        if f_tool is None and not self._touching:  # one call of the dynamics.Stepper
             step = self._stepper_of().step(
                 q[None], qd[None], tau[None], None if a1 is None else a1[None], _ONE_TRUE,
                 held=None if locked is None else locked[None], dt=h,
@@ -544,7 +570,7 @@ class Simulation:
         if (push * reaction >= 0.0).all():
             return candidates, trial, reaction
         M = dynamics.mass_matrix(self.robot, q)
-        rhs = tau - dynamics.bias_torque(self.robot, q, qd, f_tool=f_tool)
+        rhs = self._with_contact(q, qd, tau) - dynamics.bias_torque(self.robot, q, qd, f_tool=f_tool)
         _, reaction, locked = joint_stops.hold(M, rhs, push, candidates)
         if not locked.any():
             return None, None, self._no_reaction
@@ -625,6 +651,15 @@ class Simulation:
         q1[at_lo] = lo[at_lo]
         q1[at_hi] = hi[at_hi]
         return s, q1, qd1, at_lo | at_hi
+
+    @property
+    def contact_forces(self) -> list[ContactForce]:
+        """The touching pairs of the last step (empty without contact)."""
+        return self.contact.forces if self._touching else []
+
+    def _with_contact(self, q: FloatArray, qd: FloatArray, tau: FloatArray) -> FloatArray:
+        """The effort plus the contact torque at the stage state (q, qd) of this step."""
+        return tau + self.contact.torque(q, qd) if self._touching else tau
 
     def _pull_wrench(self, q: FloatArray, qd: FloatArray) -> FloatArray | None:
         if self._pull is None:

@@ -1,0 +1,275 @@
+"""Penalty contact between the robot's collision shapes and the world's obstacles (and
+between its own links), as joint torques for the physics loop.
+
+Every checked pair of a :class:`~robot_sim.collision.checker.CollisionChecker` whose
+shapes overlap (signed distance d < 0, depth δ = −d) pushes them apart along the normal
+with a spring-damper, applied at the witness points through their Jacobians:
+τ = (J_b(p_b) − J_a(p_a))ᵀ f on the second shape (−f on the first), and
+
+* normal: f_n = max(0, k δ − c ḋ) (ḋ the separation rate); never pulls;
+* friction (``friction`` μ > 0): a tangential spring-damper between two anchors, one on
+  each shape, set where the pair first touched, capped at μ f_n (Coulomb).  When the
+  spring would exceed the cap the shapes slip and the anchors are moved (between steps)
+  so that it sits on the cap; a link at rest on a slope within the friction cone stays
+  exactly in place (no creep).
+
+Gains, per pair, fixed from the moment it comes within :data:`MIN_MARGIN` (or the step's
+motion bound) of contact until it leaves again: with m the effective mass of the pair
+along the normal there, 1 / (nᵀ J M⁻¹ Jᵀ n), k = m ω² and c = 2 ζ m ω with ω·dt =
+:data:`OMEGA_DT` and ζ = :data:`DAMPING_RATIO` (a critically damped contact about 20
+steps per period: stable for RK4 and semi-implicit Euler at the 1 ms step).  Constant
+gains make the normal spring conservative (potential ½ k δ²) and the damper and the cap
+only remove energy: contact never adds energy to the arm.  The resting depth under a
+load f is f / k; a point mass m resting on the floor sinks g / ω² (0.11 mm at 1 ms).
+
+World frame, metres, newtons, seconds; joint torques in N·m or N.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim import dynamics
+from robot_sim.model.params import JTYPE_REVOLUTE
+from robot_sim.model.state import check_joint_vector
+
+from robot_sim.collision import batch
+from robot_sim.collision import contact_kernels as K
+from robot_sim.collision.checker import CollisionChecker
+from robot_sim.collision.path import lever_arms
+
+FloatArray = NDArray[np.float64]
+
+#: ω·dt of every contact's normal spring at its effective mass.
+OMEGA_DT = 0.3
+#: Damping ratio of the normal and tangential spring-dampers (critical).
+DAMPING_RATIO = 1.0
+#: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
+#: start of a step are the active ones: only they can touch during the step.
+MIN_MARGIN = 2e-3
+#: Coulomb coefficient unless told otherwise (dry metal or plastic on wood): an arm lying
+#: on a table comes to rest (frictionless, it would keep turning about a vertical joint).
+DEFAULT_FRICTION = 0.5
+#: Pairs whose relative motion along the normal costs less than this [1/kg] do not move
+#: each other (a base shape on the floor) and exert no force.
+IMMOBILE = 1e-12
+
+
+@dataclass(frozen=True)
+class ContactForce:
+    """One touching pair: names (link first), ``point`` (3,) the first shape's witness
+    point [m], ``normal`` (3,) the unit direction from the first shape toward the second,
+    ``depth`` [m] > 0 and ``force`` (3,) [N] on the first shape (its opposite acts on
+    the second)."""
+
+    pair: tuple[str, str]
+    point: FloatArray
+    normal: FloatArray
+    depth: float
+    force: FloatArray
+
+
+class ContactModel:
+    """Penalty contact of ``checker``'s robot among its checked pairs (module docstring):
+    ``friction`` μ >= 0 is the Coulomb coefficient (0: frictionless; default
+    :data:`DEFAULT_FRICTION`).
+
+    Stepping: :meth:`begin_step` at the start of every step (it picks the active pairs,
+    sets their gains and moves the friction anchors of slipping ones), then
+    :meth:`torque` at every stage state of the integrator, with the same gains and
+    anchors throughout the step.
+    """
+
+    def __init__(self, checker: CollisionChecker, *, friction: float = DEFAULT_FRICTION) -> None:
+        if not isinstance(checker, CollisionChecker):
+            raise ValueError(f"ContactModel: checker must be a CollisionChecker, got {type(checker).__name__}")
+        if isinstance(friction, bool) or not isinstance(friction, (int, float)) or not 0.0 <= friction < math.inf:
+            raise ValueError(f"ContactModel: friction must be a finite coefficient >= 0, got {friction!r}")
+        self.checker = checker
+        self.friction = float(friction)
+        robot, scene = checker.robot, checker.scene
+        self.robot = robot
+        n = robot.n_dofs
+        self._body = np.concatenate([scene.link, np.full(len(scene.owner) - scene.n_robot, -1)]).astype(np.int64)
+        self._axis_frame = np.arange(n, dtype=np.int64) + (1 if robot.is_modified else 0)
+        self._revolute = robot.jtype == JTYPE_REVOLUTE
+        self._arms = None if not self._revolute.all() else lever_arms(checker, robot.q_home[None], robot.q_home[None])[0]
+        self._pairs = checker.pairs
+        self._active = np.zeros(0, dtype=np.int64)  # rows of checker.pairs
+        self._rows = np.zeros((0, 2), dtype=np.int64)  # their scene rows
+        self._gains = np.zeros((0, 4))
+        self._anchors = np.zeros((0, K.POINTS, 2, 3))
+        self._anchored = np.zeros((0, K.POINTS), dtype=np.bool_)
+        self._out = np.zeros((0, K.POINTS, K.OUT))
+        self._F = np.empty((n + 1, 3, 4))
+
+    # ------------------------------------------------------------------ stepping
+    @property
+    def active(self) -> bool:
+        """Whether some pair is active in the current step (else the contact torque is zero)."""
+        return self._active.size > 0
+
+    def margin(self, q: FloatArray, qd: FloatArray, dt: float) -> float:
+        """How close [m] a pair must be at (q, qd) to be active in a step of ``dt`` [s]:
+        twice the lever-arm bound of any shape point's motion in the step (joint j moves
+        points at most R_j |q̇_j| fast, :func:`.path.lever_arms`), at least :data:`MIN_MARGIN`."""
+        arms = self._arms if self._arms is not None else lever_arms(self.checker, q[None], q[None])[0]
+        return max(MIN_MARGIN, 2.0 * dt * float(arms @ np.abs(qd)))
+
+    def begin_step(self, q: ArrayLike, qd: ArrayLike, dt: float) -> bool:
+        """Start a step of ``dt`` [s] from (q, qd): choose the active pairs, fix the gains of
+        pairs that just became active, move the anchors of slipping pairs; True when some
+        pair is active."""
+        q = np.ascontiguousarray(q, dtype=float)
+        qd = np.ascontiguousarray(qd, dtype=float)
+        scene = self.checker.scene
+        margin = self.margin(q, qd, dt)
+        P = self._pairs.shape[0]
+        d, pts, nrm = np.empty(P), np.zeros((P, 2, 3)), np.zeros((P, 3))
+        batch.pair_results(q, *scene.args(), self._pairs, scene.verts, margin, d, pts, nrm,
+                           np.empty_like(scene.recs0))
+        near = np.flatnonzero(d < margin)
+        if near.size == 0 and self._active.size == 0:
+            return False
+        previous = {int(p): k for k, p in enumerate(self._active)}
+        A = near.size
+        gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
+        anchored = np.zeros((A, K.POINTS), dtype=np.bool_)
+        self._frames(q)
+        M = None
+        for k, p in enumerate(near):
+            old = previous.get(int(p))
+            if old is not None:
+                gains[k], anchors[k], anchored[k] = self._gains[old], self._anchors[old], self._anchored[old]
+                continue
+            if M is None:
+                M = dynamics.mass_matrix(self.robot, q)
+            gains[k] = self._gains_at(M, int(p), pts[p], nrm[p], dt)
+        self._active, self._gains, self._anchors, self._anchored = near, gains, anchors, anchored
+        self._rows = np.ascontiguousarray(self._pairs[near])
+        self._out = np.zeros((A, K.POINTS, K.OUT))
+        if A and self.friction > 0.0:
+            self._evaluate(q, qd)
+            self._move_anchors()  # (self._F holds the frames at q)
+        return A > 0
+
+    def torque(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
+        """Joint torque (n,) [N·m or N] of the active pairs' contact forces at (q, qd), with
+        this step's gains and anchors (zero without active pairs)."""
+        if self._active.size == 0:
+            return np.zeros(self.robot.n_dofs)
+        return self._evaluate(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float))
+
+    @property
+    def forces(self) -> list[ContactForce]:
+        """The touching pairs at the last evaluated state (the last stage of the last step)."""
+        owner = self.checker.scene.owner
+        found = []
+        for k, p in enumerate(self._active):
+            i, j = self._pairs[p]
+            for out in self._out[k]:
+                if out[K.O_D] < 0.0:
+                        found.append(ContactForce((owner[i], owner[j]), out[K.O_POINT:K.O_POINT + 3].copy(),
+                                              out[K.O_NORMAL:K.O_NORMAL + 3].copy(), float(-out[K.O_D]),
+                                              out[K.O_FORCE:K.O_FORCE + 3].copy()))
+        return found
+
+    def stored_energy(self, q: ArrayLike) -> float:
+        """Potential energy [J] in the active pairs' springs at q: Σ ½ k δ² + ½ k_T |u|²."""
+        q = check_joint_vector(q, self.robot.n_dofs)
+        if self._active.size == 0:
+            return 0.0
+        q = np.ascontiguousarray(q, dtype=float)
+        self._evaluate(q, np.zeros(self.robot.n_dofs))
+        self._frames(q)
+        depth = np.maximum(-self._out[:, :, K.O_D], 0.0)  # (A, POINTS)
+        u = self._offsets()
+        spring = self._gains[:, K.K_N, None] * depth**2 + self._gains[:, K.K_T, None] * np.sum(u * u, axis=2)
+        return float(0.5 * np.sum(np.where(depth > 0.0, spring, 0.0)))
+
+    def reset(self) -> None:
+        """Forget the active pairs, their gains and anchors (after the state was set from outside)."""
+        self.__init__(self.checker, friction=self.friction)
+
+    # ------------------------------------------------------------------ helpers
+    def _evaluate(self, q: FloatArray, qd: FloatArray) -> FloatArray:
+        scene = self.checker.scene
+        tau = np.empty(self.robot.n_dofs)
+        K.contact_torque(q, qd, *scene.args(), scene.verts, self._body, self._axis_frame, self._revolute,
+                         self._rows, self._gains, self.friction, self._anchors, self._anchored, tau, self._out)
+        return tau
+
+    def _frames(self, q: FloatArray) -> None:
+        scene = self.checker.scene
+        batch.link_frames(q, scene.dh, self.robot.is_modified, scene.world0, self._F)
+
+    def _gains_at(self, M: FloatArray, p: int, points: FloatArray, normal: FloatArray, dt: float) -> FloatArray:
+        """[k_n, c_n, k_t, c_t] of pair p: the normal gains from its effective mass along
+        ``normal``, the tangential ones from the smallest effective mass across it (never
+        above the normal one); zero for a pair whose shapes cannot move each other."""
+        i, j = self._pairs[p]
+        J = np.empty((3, self.robot.n_dofs))
+        K.relative_jacobian(self._F, self._body[i], points[0], self._body[j], points[1], self._axis_frame,
+                            self._revolute, J)
+        inverse = J @ np.linalg.solve(M, J.T)  # (3, 3) inverse operational-space mass
+        tangent = np.eye(3) - np.outer(normal, normal)
+        normal_inverse = float(normal @ inverse @ normal)
+        if not normal_inverse > IMMOBILE:
+            return np.zeros(4)
+        # the tangential spring is tuned to the lightest direction in the tangent plane
+        tangent_inverse = max(float(np.linalg.eigvalsh(tangent @ inverse @ tangent)[-1]), normal_inverse)
+        omega = OMEGA_DT / dt
+        m_n, m_t = 1.0 / normal_inverse, 1.0 / tangent_inverse
+        return np.array([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
+                         m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega])
+
+    def _offsets(self) -> FloatArray:
+        """(A, POINTS, 3) tangential offset u between each anchored contact point's anchors
+        (world, at the frames in self._F; zero where not anchored)."""
+        u = np.zeros((self._active.size, K.POINTS, 3))
+        for k, e in zip(*np.nonzero(self._anchored)):
+            i, j = self._pairs[self._active[k]]
+            anchor = self._anchors[k, e]
+            w = self._world(self._body[j], anchor[1]) - self._world(self._body[i], anchor[0])
+            n = self._out[k, e, K.O_NORMAL:K.O_NORMAL + 3]
+            u[k, e] = w - (w @ n) * n
+        return u
+
+    def _world(self, body: int, x: FloatArray) -> FloatArray:
+        if body < 0:
+            return x.copy()
+        return self._F[body, :, :3] @ x + self._F[body, :, 3]
+
+    def _local(self, body: int, x: FloatArray) -> FloatArray:
+        if body < 0:
+            return x.copy()
+        return self._F[body, :, :3].T @ (x - self._F[body, :, 3])
+
+    def _move_anchors(self) -> None:
+        """After an evaluation at a step's start: anchor the pairs that touch for the first
+        time at their witness points, release the ones that no longer touch, and slide
+        the second anchor of pairs whose spring exceeds μ f_n back onto the cap."""
+        u = self._offsets()
+        for k, p in enumerate(self._active):
+            i, j = self._pairs[p]
+            for e in range(K.POINTS):
+                out, anchor = self._out[k, e], self._anchors[k, e]
+                normal = out[K.O_NORMAL:K.O_NORMAL + 3]
+                if not out[K.O_D] < 0.0 or self._gains[k, K.K_N] <= 0.0:
+                    self._anchored[k, e] = False
+                    continue
+                if not self._anchored[k, e]:
+                    a = out[K.O_POINT:K.O_POINT + 3]
+                    anchor[0] = self._local(self._body[i], a)
+                    anchor[1] = self._local(self._body[j], a + out[K.O_D] * normal)
+                    self._anchored[k, e] = True
+                    continue
+                f_n = -float(out[K.O_FORCE:K.O_FORCE + 3] @ normal)
+                size = float(np.linalg.norm(u[k, e]))
+                cap = self.friction * max(f_n, 0.0) / self._gains[k, K.K_T]
+                if size > cap:
+                    b = self._world(self._body[j], anchor[1]) - (1.0 - cap / size) * u[k, e]
+                    anchor[1] = self._local(self._body[j], b)
