@@ -96,7 +96,8 @@ class ContactModel:
         self._body = np.concatenate([scene.link, np.full(len(scene.owner) - scene.n_robot, -1)]).astype(np.int64)
         self._axis_frame = np.arange(n, dtype=np.int64) + (1 if robot.is_modified else 0)
         self._revolute = robot.jtype == JTYPE_REVOLUTE
-        self._arms = None if not self._revolute.all() else lever_arms(checker, robot.q_home[None], robot.q_home[None])[0]
+        home = robot.q_home[None]
+        self._arms = lever_arms(checker, home, home)[0] if self._revolute.all() else None  # else they vary with q
         self._pairs = checker.pairs
         self._active = np.zeros(0, dtype=np.int64)  # rows of checker.pairs
         self._rows = np.zeros((0, 2), dtype=np.int64)  # their scene rows
