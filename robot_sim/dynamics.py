@@ -805,6 +805,16 @@ def bias_torque(
     return tau[0] if single else tau
 
 
+def friction_torque(robot: RobotParams, qd: ArrayLike) -> FloatArray:
+    """τ_f(q̇) = G²·B·q̇ + |G|·Tc± [N·m or N], (n,) or (N, n): what the drives spend on
+    friction at joint rates ``qd`` (Tc+ when q̇ > 0, Tc− when q̇ < 0, none at rest); zero
+    without drives.  Included in :func:`inverse_dynamics` and :func:`bias_torque`."""
+    qd_arr = _joint_array(robot, qd, "qd")
+    single, QD = qd_arr.ndim == 1, np.atleast_2d(qd_arr)
+    friction = _drive_torque(_model(robot), _rows(QD), None)
+    tau = np.zeros(QD.shape) if friction is None else friction.T
+    return tau[0] if single else tau
+
 def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
     """Joint-space inertia matrix M(q) (n, n) or (N, n, n) [kg·m², kg], symmetric positive
     definite, reflected motor inertia G²·Jm on the diagonal (composite rigid bodies)."""

@@ -31,7 +31,7 @@ import math
 import os
 import weakref
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Any, Callable, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,8 +57,8 @@ _NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])
 
 
 def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Row-wise cross product of (k, 3) arrays (np.cross costs 3x more at these sizes)."""
-    return a[:, _NEXT] * b[:, _PREV] - a[:, _PREV] * b[:, _NEXT]
+    """Cross product over the last axis of (..., 3) arrays (np.cross costs 3x more at these sizes)."""
+    return a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
 
 
 def cos_sin_half(q: FloatArray, half_offset: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -97,6 +97,7 @@ class _ChainModel:
         # joint i+1 (0-based column i) turns about z of frame i (standard) or i+1 (modified)
         self.axis_frame = 1 if self.modified else 0
         self.revolute = robot.jtype == JTYPE_REVOLUTE
+        self._revolute = self.revolute.tolist()
         self.rev_index = np.flatnonzero(self.revolute)
         self.alpha_kind = [_alpha_kind(al) for al in robot.dh_alpha]
         self.ca = np.cos(robot.dh_alpha)
@@ -108,7 +109,10 @@ class _ChainModel:
         self.tool = tool
         self.tool_rotates = not np.allclose(tool[:3, :3], np.eye(3), atol=0.0, rtol=0.0)
         self.tool_translates = bool(np.any(tool[:3, 3] != 0.0))
-        self.basis = _link_basis(self.ca, self.sa, robot.dh_a, self.modified).reshape(self.n, 4, 16)
+        self._twists = list(zip(self.ca.tolist(), self.sa.tolist(), robot.dh_a.tolist()))
+        self._dh_th, self._dh_d = robot.dh_th.tolist(), robot.dh_d.tolist()
+        self._base_rows = robot.base_tf.mat.tolist()
+        self._tool_rows = tool[:3].tolist()
         # link COMs = com_weights @ frame origins: link_com[0] at frame 0, link_com[i] at
         # fraction f_i from frame i-1 to frame i.
         weights = np.zeros((self.n + 1, self.n + 1))
@@ -134,17 +138,45 @@ class _ChainModel:
 
     def frames(self, th: FloatArray, d: FloatArray, world0: FloatArray) -> FloatArray:
         """World frames 0..n (n+1, 4, 4) from full DH θ (rad) and d (m) of every joint."""
-        coeff = np.empty((self.n, 1, 4))
-        coeff[:, 0, 0] = 1.0
-        coeff[:, 0, 1] = np.cos(th)
-        coeff[:, 0, 2] = np.sin(th)
-        coeff[:, 0, 3] = d
-        links = np.matmul(coeff, self.basis).reshape(self.n, 4, 4)
-        out = np.empty((self.n + 1, 4, 4))
-        out[0] = world0
-        for i in range(self.n):
-            np.matmul(out[i], links[i], out=out[i + 1])
+        flat: list[float] = []
+        for X, Y, Z, P in self.walk_floats(th.tolist(), d.tolist(), world0):
+            flat += (X[0], Y[0], Z[0], P[0], X[1], Y[1], Z[1], P[1], X[2], Y[2], Z[2], P[2], 0.0, 0.0, 0.0, 1.0)
+        return np.array(flat).reshape(self.n + 1, 4, 4)
+
+    def walk_floats(self, th: list[float], d: list[float], world0: FloatArray | list) -> list[tuple]:
+        """World frames 0..n of one configuration as (x, y, z, origin) column triples of
+        Python floats, from full DH θ [rad] and d [m] (floats cost far less than NumPy
+        calls on 4×4 arrays): standard DH turns by θ, slides by d along z and a along the
+        new x, then twists by α about it; modified DH twists, slides by a, turns, slides by d."""
+        w = world0 if isinstance(world0, list) else world0.tolist()
+        X, Y, Z, P = ((w[0][k], w[1][k], w[2][k]) for k in range(4))
+        out = [(X, Y, Z, P)]
+        modified = self.modified
+        for (ca, sa, a), t, dj in zip(self._twists, th, d):
+            c, s = math.cos(t), math.sin(t)
+            if modified:
+                Y, Z = (ca * Y[0] + sa * Z[0], ca * Y[1] + sa * Z[1], ca * Y[2] + sa * Z[2]), \
+                    (ca * Z[0] - sa * Y[0], ca * Z[1] - sa * Y[1], ca * Z[2] - sa * Y[2])
+                P = (P[0] + a * X[0], P[1] + a * X[1], P[2] + a * X[2])
+                X, Y = (c * X[0] + s * Y[0], c * X[1] + s * Y[1], c * X[2] + s * Y[2]), \
+                    (c * Y[0] - s * X[0], c * Y[1] - s * X[1], c * Y[2] - s * X[2])
+                P = (P[0] + dj * Z[0], P[1] + dj * Z[1], P[2] + dj * Z[2])
+            else:
+                X, Y = (c * X[0] + s * Y[0], c * X[1] + s * Y[1], c * X[2] + s * Y[2]), \
+                    (c * Y[0] - s * X[0], c * Y[1] - s * X[1], c * Y[2] - s * X[2])
+                P = (P[0] + dj * Z[0] + a * X[0], P[1] + dj * Z[1] + a * X[1], P[2] + dj * Z[2] + a * X[2])
+                Y, Z = (ca * Y[0] + sa * Z[0], ca * Y[1] + sa * Z[1], ca * Y[2] + sa * Z[2]), \
+                    (ca * Z[0] - sa * Y[0], ca * Z[1] - sa * Y[1], ca * Z[2] - sa * Y[2])
+            out.append((X, Y, Z, P))
         return out
+
+    def tool_floats(self, frame: tuple) -> list[list[float]]:
+        """The tool frame's rows (3 × 4 floats, world) from frame n as column triples."""
+        X, Y, Z, P = frame
+        cols = [[X[r] * t[0] + Y[r] * t[1] + Z[r] * t[2] for t in zip(*self._tool_rows)] for r in range(3)]
+        for r in range(3):
+            cols[r][3] += P[r]
+        return cols
 
     def th_d(self, q: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Full DH θ and d of every joint for joint vector q (n,)."""
@@ -283,28 +315,6 @@ class _ChainModel:
         return X, Y, Z, P
 
 
-def _link_basis(ca: FloatArray, sa: FloatArray, a: FloatArray, modified: bool) -> FloatArray:
-    """Per-joint matrices (n, 4, 4, 4) with A_i = B[0] + cos θ_i B[1] + sin θ_i B[2] + d_i B[3].
-
-    Standard: Rz(θ) Tz(d) Tx(a) Rx(α).  Modified: Rx(α) Tx(a) Rz(θ) Tz(d), whose rows are
-    (c, −s, 0, a), (cα s, cα c, −sα, −sα d), (sα s, sα c, cα, cα d).
-    """
-    basis = np.zeros((len(a), 4, 4, 4))
-    if modified:
-        basis[:, 0, 0, 3], basis[:, 0, 1, 2], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = a, -sa, ca, 1.0
-        basis[:, 1, 0, 0], basis[:, 1, 1, 1], basis[:, 1, 2, 1] = 1.0, ca, sa
-        basis[:, 2, 0, 1], basis[:, 2, 1, 0], basis[:, 2, 2, 0] = -1.0, ca, sa
-        basis[:, 3, 1, 3], basis[:, 3, 2, 3] = -sa, ca
-        return basis
-    basis[:, 0, 2, 1], basis[:, 0, 2, 2], basis[:, 0, 3, 3] = sa, ca, 1.0
-    basis[:, 1, 0, 0], basis[:, 1, 0, 3] = 1.0, a
-    basis[:, 1, 1, 1], basis[:, 1, 1, 2] = ca, -sa
-    basis[:, 2, 1, 0], basis[:, 2, 1, 3] = 1.0, a
-    basis[:, 2, 0, 1], basis[:, 2, 0, 2] = -ca, sa
-    basis[:, 3, 2, 3] = 1.0
-    return basis
-
-
 _MODELS: "weakref.WeakKeyDictionary[RobotParams, _ChainModel]" = weakref.WeakKeyDictionary()
 
 
@@ -418,6 +428,119 @@ def jacobian(
     return out[0] if single else out
 
 
+def tool_kinematics(
+    robot: RobotParams,
+    q: ArrayLike,
+    qd: ArrayLike,
+    world_tf: HomogeneousTransform | ArrayLike | None = None,
+    *,
+    check: bool = True,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Tool pose, geometric Jacobian and J̇(q, q̇) q̇ from one walk of the chain.
+
+    q, qd (n,) give the world pose (4, 4), the Jacobian (6, n) of :func:`jacobian` and the
+    bias acceleration (6,) of :func:`jacobian_dot_qd`; (N, n) give (N, 4, 4), (N, 6, n) and
+    (N, 6).  ValueError if q or qd lacks n finite values per configuration or their shapes
+    differ; ``check=False`` skips these checks for callers that made them (float arrays
+    of matching shapes).
+    """
+    n = robot.n_dofs
+    if check:
+        Q = check_joint_vector(q, n)
+        QD = check_joint_vector(qd, n, "qd")
+        if QD.shape != Q.shape:
+            raise ValueError(f"qd must have the shape of q, {Q.shape}, got {QD.shape}")
+    else:
+        Q, QD = q, qd
+    model = _model(robot)
+    if Q.ndim == 1:  # Python floats throughout
+        q_list = Q.tolist()
+        th = [t + v if r else t for t, v, r in zip(model._dh_th, q_list, model._revolute)]
+        d = [t if r else t + v for t, v, r in zip(model._dh_d, q_list, model._revolute)]
+        frames = model.walk_floats(th, d, model._base_rows if world_tf is None else _world0(robot, world_tf))
+        rows = model.tool_floats(frames[n])
+        axes = frames[model.axis_frame : model.axis_frame + n]
+        z, p = [f[2] for f in axes], [f[3] for f in axes]
+        jac, bias = _jacobian_and_bias(model, z, p, (rows[0][3], rows[1][3], rows[2][3]), QD.tolist(), 0.0)
+        return np.array(rows + [[0.0, 0.0, 0.0, 1.0]]), jac, bias
+    every = forward_kinematics(robot, Q, all_frames=True, world_tf=world_tf)
+    axes = every[:, model.axis_frame : model.axis_frame + n, :3]
+    tool = every[:, n + 1]
+    jac, bias = _jacobian_and_bias(model, axes[..., 2].transpose(1, 2, 0), axes[..., 3].transpose(1, 2, 0),
+                                   tool[:, :3, 3].T, QD.T, np.zeros(Q.shape[0]))
+    return tool, jac.transpose(2, 0, 1), bias.T
+
+
+def jacobian_dot_qd(
+    robot: RobotParams, q: ArrayLike, qd: ArrayLike, world_tf: HomogeneousTransform | ArrayLike | None = None
+) -> FloatArray:
+    """J̇(q, q̇) q̇: the endeffector's acceleration [linear (m/s²) at the tool origin; angular
+    (rad/s²)] in the world frame when q̈ = 0, so that the tool's acceleration is
+    ``J q̈ + J̇ q̇``.  q, qd (n,) give (6,); (N, n) give (N, 6), batched over configurations
+    (the loops run over joints).  Errors as :func:`tool_kinematics`.
+    """
+    return tool_kinematics(robot, q, qd, world_tf)[2]
+
+
+def _jacobian_and_bias(model: _ChainModel, z: Any, p: Any, pe: Any, rates: Any, zero: Any) -> tuple[FloatArray, FloatArray]:
+    """J (6, n[, N]) and J̇q̇ (6[, N]) from joint axes ``z[j]`` and axis points ``p[j]`` (world
+    triples), the tool point ``pe`` and the rates ``rates[j]``, each component a Python
+    float (one configuration; ``zero`` = 0.0) or an (N,) array (a batch; ``zero`` zeros).
+
+    With u_j = z_j q̇_j and Ω_j the angular velocity of the link carrying axis j (the sum
+    of the revolute u_k, k < j): ż_j q̇_j = Ω_j × u_j.  A point x of that link moves at
+    Ω_j × x + c_j with c_j = Σ_{k<j} (slide_k − ω_k × p_k).  Differentiating the columns
+    [z_j × (p_e − p_j); z_j] (revolute) and [z_j; 0] (prismatic) along the motion and summing
+    them weighted by q̇_j gives J̇q̇ = Σ [ż_j q̇_j × (p_e − p_j) + u_j × (ṗ_e − ṗ_j); ż_j q̇_j]
+    (prismatic: [ż_j q̇_j; 0]).  The loops run over joints only.
+    """
+    n, revolute = model.n, model._revolute
+    wx = wy = wz = cx = cy = cz = zero  # Ω and c of the link carrying the next axis
+    moves = []  # per joint: u, ż q̇, ṗ of its axis point
+    for j in range(n):
+        (zx, zy, zz), (px, py, pz), r = z[j], p[j], rates[j]
+        ux, uy, uz = zx * r, zy * r, zz * r
+        moves.append((
+            (ux, uy, uz),
+            (wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux),
+            (wy * pz - wz * py + cx, wz * px - wx * pz + cy, wx * py - wy * px + cz),
+        ))
+        if revolute[j]:
+            wx, wy, wz = wx + ux, wy + uy, wz + uz
+            cx, cy, cz = cx - (uy * pz - uz * py), cy - (uz * px - ux * pz), cz - (ux * py - uy * px)
+        else:
+            cx, cy, cz = cx + ux, cy + uy, cz + uz
+    ex, ey, ez = pe
+    vx, vy, vz = wy * ez - wz * ey + cx, wz * ex - wx * ez + cy, wx * ey - wy * ex + cz  # ṗ_e
+    rows: list[list] = [[] for _ in range(6)]
+    ax = ay = az = bx = by = bz = zero  # J̇q̇: linear, angular
+    for j in range(n):
+        (zx, zy, zz), ((ux, uy, uz), (dx, dy, dz), (qx, qy, qz)) = z[j], moves[j]
+        if revolute[j]:
+            lx, ly, lz = ex - p[j][0], ey - p[j][1], ez - p[j][2]
+            col = (zy * lz - zz * ly, zz * lx - zx * lz, zx * ly - zy * lx, zx, zy, zz)
+            rx, ry, rz = vx - qx, vy - qy, vz - qz
+            ax = ax + dy * lz - dz * ly + uy * rz - uz * ry  # not +=: the zeros are one shared array
+            ay = ay + dz * lx - dx * lz + uz * rx - ux * rz
+            az = az + dx * ly - dy * lx + ux * ry - uy * rx
+            bx, by, bz = bx + dx, by + dy, bz + dz
+        else:
+            col = (zx, zy, zz, zero, zero, zero)
+            ax, ay, az = ax + dx, ay + dy, az + dz
+        for k in range(6):
+            rows[k].append(col[k])
+    return np.array(rows), np.array([ax, ay, az, bx, by, bz])
+
+
+def task_rows(robot: RobotParams) -> FloatArray:
+    """Rows of the Jacobian a task-space controller can command: all six for arms with six
+    or more joints; otherwise the position rows the arm's structure moves (x and y of a
+    planar arm), found once per robot."""
+    if robot.n_dofs >= 6:
+        return np.arange(6)
+    return _model(robot).moving_position_rows(robot)
+
+
 def manipulability(robot: RobotParams, q: ArrayLike, jac: ArrayLike | None = None) -> FloatArray | float:
     """Yoshikawa's manipulability √det(J Jᵀ) at q (n,) or for each row of q (N, n).
 
@@ -430,7 +553,7 @@ def manipulability(robot: RobotParams, q: ArrayLike, jac: ArrayLike | None = Non
     J = jacobian(robot, q) if jac is None else np.asarray(jac, dtype=float)
     n = robot.n_dofs
     if n < 6:
-        J = J[..., _model(robot).moving_position_rows(robot), :]
+        J = J[..., task_rows(robot), :]
     JJt = J @ np.swapaxes(J, -1, -2) if J.shape[-2] <= n else np.swapaxes(J, -1, -2) @ J
     m = np.sqrt(np.clip(np.linalg.det(JJt), 0.0, None))
     return float(m) if m.ndim == 0 else m

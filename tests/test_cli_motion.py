@@ -74,7 +74,7 @@ def test_a_file_without_inertials_is_simulated_with_estimated_ones(tmp_path):
 @pytest.mark.parametrize(
     ("args", "fragments"),
     [
-        (["--duration", "1"], ["--duration: needs --record DIR, or --motion passive|pd|pdg|ct to simulate first"]),
+        (["--duration", "1"], ["--duration: needs --record DIR, or --motion passive|pd|pdg|ct|osc|impedance to simulate first"]),
         (["--motion", "pid"], ["argument --motion: invalid choice: 'pid'"]),
         (["--motion", "pd", "--duration", "-1"], ["--duration: expected a finite number of seconds >= 0, got '-1'"]),
         (["--motion", "pd", "--bandwidth", "0"], ["--bandwidth: expected a positive number, got '0'"]),

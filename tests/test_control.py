@@ -16,8 +16,8 @@ from robot_sim.control.controllers import (
     Passive,
     PDGravity,
     control_gains,
-    make_controller,
 )
+from robot_sim.control.factory import make_controller
 from kin_helpers import robot
 from robot_sim.io.robot_file import ROBOTS_DIR, load_robot
 from robot_sim.model.params import RobotDefinitionError
@@ -94,7 +94,7 @@ def test_bad_gain_arguments_are_refused():
         control_gains(rob, damping=float("nan"))
     with pytest.raises(ValueError, match=r"kp must be 7 finite gains >= 0, got \[1, 2\]"):
         control_gains(rob, kp=[1, 2])
-    with pytest.raises(ValueError, match="mode must be one of passive, pd, pdg, ct, got 'pid'"):
+    with pytest.raises(ValueError, match="mode must be one of passive, pd, pdg, ct, osc, impedance, resolved_rate, got 'pid'"):
         make_controller("pid", rob)
 
 

@@ -119,3 +119,36 @@ def test_a_joint_hitting_its_limit_flashes_and_says_so(app: QApplication, closin
     QTest.qWait(50)
     assert qs.LIMIT_FLASH_COLOR in label.styleSheet()
     assert "joint 4 hit its min limit" in win.message_label.text()
+
+
+@pytest.mark.window
+def test_under_osc_dragging_the_target_moves_the_tool_there_without_ik(
+    app: QApplication, closing: list[Any], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Operational space: the dragged target is the tool's desired pose itself; IK is
+    never called (it raises here), the ghost arm gives way to the target's pose, the tool
+    arrives within 2 mm and the readout shows the Cartesian tracking error."""
+    import robot_sim.viewer.session as session_module
+
+    def no_ik(*args: Any, **kwargs: Any) -> Any:
+        raise AssertionError("IK called under osc")
+
+    monkeypatch.setattr(session_module, "solve_ik", no_ik)
+    win = _open(app, closing, "--robot", "humanoid7")
+    win.motion_panel.combo.setCurrentIndex(MOTION_MODES.index("osc"))
+    assert win.session.motion.mode == "osc" and win.session.task_space
+    press(app, Qt.Key_G)
+    ee_before = win.session.kin.endeff_tf.t().copy()
+    start = _pixel(win, win.session.target_tf.t())
+    QTest.mousePress(win.view, Qt.LeftButton, Qt.ControlModifier, start)
+    app.sendEvent(win.view, QMouseEvent(QEvent.MouseMove, start + QPoint(60, 0), Qt.NoButton, Qt.LeftButton, Qt.ControlModifier))
+    QTest.mouseRelease(win.view, Qt.LeftButton, Qt.ControlModifier, start + QPoint(60, 0))
+    goal = win.session.target_tf.t().copy()
+    assert np.linalg.norm(goal - ee_before) > 0.05
+    assert win.session.scene().ghost is None
+    wait_until(lambda: np.linalg.norm(win.session.kin.endeff_tf.t() - goal) < 2e-3, limit_ms=30000)
+    assert win.session.motion.sim.time > 0.2
+    np.testing.assert_allclose(win.session.motion.sim.desired_pose, win.session.target_tf.mat)
+    grab(win)
+    assert "tracking error" in win.readout.text()
+    assert "operational space" in win.status.text()

@@ -137,7 +137,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--annotate", metavar="J",
                         help="draw joint J's DH parameters (d, θ, a, α) between frames J-1 and J, J = 1..n")
     parser.add_argument("--motion", choices=MOTIONS,
-                        help="simulate the arm: passive (falls), pd, pdg (PD + gravity), ct (computed torque)")
+                        help="simulate the arm: passive (falls), pd, pdg (PD + gravity), ct (computed torque), "
+                             "osc (operational space), impedance")
     parser.add_argument("--bandwidth", metavar="HZ", help="controller bandwidth (closed-loop natural frequency) in Hz")
     parser.add_argument("--damping", metavar="ZETA", help="controller damping ratio")
     parser.add_argument("--kp", metavar="k1,k2,...", help="PD stiffness per joint (N·m/rad or N/m)")
@@ -406,7 +407,7 @@ def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: floa
         if args.fps is not None:
             raise CliError("--fps: needs --record DIR")
         if args.duration is not None and args.motion is None:
-            raise CliError("--duration: needs --record DIR, or --motion passive|pd|pdg|ct to simulate first")
+            raise CliError(f"--duration: needs --record DIR, or --motion {'|'.join(MOTIONS)} to simulate first")
         return None, duration, fps
     out = Path(args.record).expanduser().absolute()
     try:

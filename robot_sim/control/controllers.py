@@ -46,8 +46,9 @@ DEFAULT_BANDWIDTH_HZ = 2.0
 #: Default damping ratio: critically damped, no overshoot on a step of the desired value.
 DEFAULT_DAMPING = 1.0
 
-#: Physical motion modes (a controller in the simulation loop), ``--motion``'s choices.
-PHYSICAL_MODES = ("passive", "pd", "pdg", "ct")
+#: Physical motion modes (a controller in the simulation loop), ``--motion``'s choices:
+#: the joint-space controllers, then operational-space and impedance control.
+PHYSICAL_MODES = ("passive", "pd", "pdg", "ct", "osc", "impedance")
 #: Motion modes of the viewer, in the order the window cycles them.  ``kinematic`` is no
 #: physics at all (the joints follow the desired values directly).
 MOTION_MODES = ("kinematic", *PHYSICAL_MODES)
@@ -57,6 +58,8 @@ MOTION_LABELS = {
     "pd": "PD",
     "pdg": "PD + gravity",
     "ct": "computed torque",
+    "osc": "operational space",
+    "impedance": "impedance",
 }
 
 
@@ -124,6 +127,16 @@ class Controller:
 
     #: Motion mode key (see :data:`MOTION_MODES`).
     mode = ""
+    #: What :meth:`torque` is asked to follow: ``"joint"`` (desired q, q̇, q̈) or ``"task"``
+    #: (desired tool pose, twist, acceleration: robot_sim/control/task_space.py).
+    space = "joint"
+    #: True for a continuous-time law the simulation evaluates at every integration stage;
+    #: False for a sampled one, whose effort is held over each step.
+    continuous = False
+
+    def reset(self, q: FloatArray, dt: float) -> None:
+        """Start a run at joint values ``q`` with control period ``dt`` [s]: controllers
+        with internal state (resolved rate's desired joints) reinitialise it."""
 
     def torque(
         self, q: FloatArray, qd: FloatArray, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray
@@ -134,6 +147,12 @@ class Controller:
         """The joint acceleration the last :meth:`torque` produces on this controller's
         robot model at the state it was given, if the control law knows it (computed
         torque does: it is the reference acceleration), else None."""
+        return None
+
+    def acceleration(self, q: FloatArray, qd: FloatArray, *desired: FloatArray) -> FloatArray | None:
+        """The closed-loop joint acceleration on this controller's model at (q, q̇) for the
+        ``desired`` values, when the law yields it without its torque (operational space
+        does), else None."""
         return None
 
 
@@ -199,14 +218,3 @@ class ComputedTorque(Controller):
     def commanded_acceleration(self) -> FloatArray | None:
         """The reference acceleration of the last :meth:`torque` (exact on the model)."""
         return self._qdd_ref
-
-
-def make_controller(mode: str, robot: RobotParams, gains: Gains | None = None) -> Controller:
-    """Controller of motion mode ``mode`` (``passive``, ``pd``, ``pdg`` or ``ct``); gains
-    default to :func:`control_gains` of the robot.  ValueError for another mode."""
-    if mode == "passive":
-        return Passive(robot)
-    kinds = {"pd": PD, "pdg": PDGravity, "ct": ComputedTorque}
-    if mode not in kinds:
-        raise ValueError(f"mode must be one of passive, pd, pdg, ct, got {mode!r}")
-    return kinds[mode](robot, gains if gains is not None else control_gains(robot))

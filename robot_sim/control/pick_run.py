@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_sim.control.controllers import make_controller
+from robot_sim.control.factory import make_controller
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.model.state import RobotState

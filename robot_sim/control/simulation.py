@@ -8,11 +8,18 @@ keeps pace with the wall clock while the computation keeps up.
 
 One step of length h, in this order:
 
-1. The desired state: from ``reference(t)`` when given, else the desired state of the
-   :class:`~robot_state.RobotState` (what the sliders, the IK ghost or the demo set).
+1. The desired state: from the ``reference`` when given (a joint reference, or a task
+   reference of tool poses for a task-space controller: robot_sim/control/reference.py),
+   else the desired state of the :class:`~robot_state.RobotState` (what the sliders, the
+   IK ghost or the demo set; a task-space controller follows the tool motion of those
+   joints).
 2. The controller's effort, held constant over the step (a digital controller at the step
    rate), saturated at the drive's effort limit; joints that saturate are reported in
-   :attr:`Simulation.saturated`.  ``JointState.u`` holds the applied effort.
+   :attr:`Simulation.saturated`.  ``JointState.u`` holds the applied effort.  A
+   continuous-time controller (``controller.continuous``: operational space, impedance)
+   is evaluated again at every integration stage, on the reference at the stage's time,
+   so its closed loop is integrated to the integrator's order; the effort reported is the
+   step's first.  A step that touches a joint stop holds the first stage's effort.
 3. Forward dynamics (``dynamics.forward_dynamics``) with the optional pull force at the tool (a spring toward a point,
    see :meth:`Simulation.set_pull`), integrated by semi-implicit (symplectic) Euler —
    ``qd += h·qdd(q, qd); q += h·qd`` — or classical RK4.
@@ -51,7 +58,7 @@ from __future__ import annotations
 import math
 import time as _time
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -61,13 +68,14 @@ from robot_sim.collision.checker import CollisionChecker
 from robot_sim.collision.contact import DEFAULT_FRICTION, ContactForce, ContactModel
 from robot_sim.control import joint_stops
 from robot_sim.control.controllers import Controller, Passive
+from robot_sim.control.reference import Desired, Reference, task_from_joints
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
 
 FloatArray = NDArray[np.float64]
-#: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,), at simulated time t [s].
-Reference = Callable[[float], tuple[FloatArray, FloatArray, FloatArray]]
+#: A stage's joint acceleration from (time offset in the step [s], q, q̇).
+_StageAccel = Callable[[float, FloatArray, FloatArray], FloatArray]
 
 DEFAULT_DT = 1e-3
 INTEGRATORS = dynamics.INTEGRATORS
@@ -149,6 +157,10 @@ class Simulation:
     ``checker`` (a CollisionChecker of ``robot``) turns on contact with its world and
     between its checked links, with Coulomb ``friction`` μ >= 0 (0.5 unless given; module
     docstring).
+    ``reference``: None (follow the state's desired values), a callable of time [s]
+    returning (q_des, qd_des, qdd_des) or (pose_d, twist_d, accel_d), or a ``Trajectory``
+    (its ``poses``, when it has them, are the task reference); see
+    robot_sim/control/reference.py.
     """
 
     def __init__(
@@ -159,7 +171,7 @@ class Simulation:
         *,
         dt: float = DEFAULT_DT,
         integrator: str = "rk4",
-        reference: Reference | None = None,
+        reference: Any = None,
         max_lag: float = DEFAULT_MAX_LAG,
         restitution: float = 0.0,
         checker: CollisionChecker | None = None,
@@ -223,6 +235,9 @@ class Simulation:
         self._pull_kin: tuple[Kinematics, RobotState] | None = None
         self.pull_force = np.zeros(3)
         self._stepper: dynamics.Stepper | None = None
+        self._wrench: FloatArray | None = None
+        #: The desired tool pose (4, 4) of the last step under a task-space controller.
+        self.desired_pose: FloatArray | None = None
         self.load_state()
 
     # ------------------------------------------------------------------ configuration
@@ -236,6 +251,16 @@ class Simulation:
         if name not in INTEGRATORS:
             raise ValueError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {name!r}")
         self._integrator = name
+
+    @property
+    def reference(self) -> Any:
+        """What the controller follows (None: the state's desired values); see the class."""
+        return self._reference_source
+
+    @reference.setter
+    def reference(self, source: Any) -> None:
+        self._reference = None if source is None else Reference(self.robot, source)
+        self._reference_source = source
 
     @property
     def restitution(self) -> float:
@@ -262,6 +287,7 @@ class Simulation:
         if self.contact is not None:
             self.contact.reset()
         self._published = (self.state.q(), self.state.qd())
+        self.controller.reset(self.q.copy(), self.dt)
 
     def _follow_state(self) -> None:
         """The RobotState is the one source of truth: when its q or qd were set from outside
@@ -286,6 +312,17 @@ class Simulation:
         """Release the endeffector (no pull force from the next step on)."""
         self._pull = None
         self.pull_force = np.zeros(3)
+
+    def set_tool_wrench(self, wrench: ArrayLike | None) -> None:
+        """Apply the constant wrench (6,) [force (N); moment (N·m)], world frame, to the
+        tool frame's origin from the next step on (on top of any pull); None removes it."""
+        if wrench is None:
+            self._wrench = None
+            return
+        w = np.asarray(wrench, dtype=float)
+        if w.shape != (6,) or not np.isfinite(w).all():
+            raise ValueError(f"wrench must be a finite (6,) [force; moment] in N and N·m, got {wrench!r}")
+        self._wrench = w.copy()
 
     def take_events(self) -> list[LimitEvent]:
         """The limit events since the previous call (oldest first), removing them."""
@@ -325,16 +362,13 @@ class Simulation:
         self._follow_state()
         if self.stopped is not None or n_steps == 0:
             return 0
-        desired = None if self.reference is not None else (
-            self.state.q_des(), self.state.qd_des(), self.state.qdd_des()
-        )
+        desired_at = self._desired_source()
+        desired = None
         taken = 0
         with np.errstate(all="ignore"):
             for _ in range(n_steps):
-                if self.reference is not None:
-                    desired = self.reference(self.time)
                 try:
-                    self._step(*desired)
+                    desired = self._step(desired_at)
                 except (_Diverged, np.linalg.LinAlgError) as exc:
                     self.stopped = stop_message(self.time, str(exc))
                     break
@@ -342,16 +376,31 @@ class Simulation:
         self._publish(desired)
         return taken
 
+    def _desired_source(self) -> Callable[[float], Desired]:
+        """The desired values as a function of time, in the controller's space: the
+        reference, or the state's desired joints (their tool motion for a task-space
+        controller), fixed over the call.  ValueError if a joint controller is given a
+        task-only reference."""
+        space = self.controller.space
+        if self._reference is not None:
+            return self._reference.for_space(space)
+        fixed = (self.state.q_des(), self.state.qd_des(), self.state.qdd_des())
+        if space == "task":
+            fixed = task_from_joints(self.robot, *fixed)
+        return lambda _time: fixed
+
     # ------------------------------------------------------------------ one step
-    def _step(self, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray) -> None:
-        q, qd = self.q, self.qd
-        command = self.controller.torque(q, qd, q_des, qd_des, qdd_des)
+    def _step(self, desired_at: Callable[[float], Desired]) -> Desired:
+        """One step; returns the desired values at its start."""
+        q, qd, t = self.q, self.qd, self.time
+        desired = desired_at(t)
+        self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
+        command = self.controller.torque(q, qd, *desired)
         if not _finite(command):
             raise _Diverged(f"the {self.controller.mode} controller returned a non-finite effort {command}")
         saturated = np.abs(command) > self.effort_limit if self._limit_effort else self.saturated
         tau = np.clip(command, -self.effort_limit, self.effort_limit) if saturated.any() else command
-        f_tool = self._pull_wrench(q, qd)
-        self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
+        f_tool = self._tool_wrench(q, qd)
         # The first stage's acceleration is known when the controller's model is the
         # simulated robot and nothing else acts (computed torque: its reference
         # acceleration, to round-off), which saves one forward dynamics per step.
@@ -360,7 +409,13 @@ class Simulation:
         if tau is command and plain and getattr(self.controller, "robot", None) is self.robot:
             known = self.controller.commanded_acceleration()
         stops = None
-        if plain:  # one stepper call; it holds joints resting on their stops itself
+        if self.controller.continuous and not self._any_at_limit:  # the law at every stage
+            if known is None or not _finite(known):
+                known = self._accel(q, qd, tau, f_tool)
+            q1, qd1, qdd = self._runge_kutta(q, qd, self.dt, known, self._continuous_accel(desired_at, t, f_tool))
+            if self._limit_position and self._crosses(q1):
+                q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
+        elif plain:  # one stepper call; it holds joints resting on their stops itself
             step = self._stepper_of().step(
                 q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE, stops=self._limit_position
             )
@@ -398,6 +453,35 @@ class Simulation:
         self.velocity_limited = velocity_limited
         self.time += self.dt
         self.steps += 1
+        return desired
+
+    def _continuous_accel(self, desired_at: Callable[[float], Desired], t: float, f_tool: FloatArray | None) -> _StageAccel:
+        """Stage accelerations of a continuous controller, evaluated at each stage's state
+        and time: its own closed-loop acceleration when its model is the robot and nothing
+        else acts (no pull, no effort limit to check), else forward dynamics of its
+        (saturated) effort."""
+        controller = self.controller
+        exact = f_tool is None and not self._touching and getattr(controller, "robot", None) is self.robot
+
+        def accel(offset: float, q: FloatArray, qd: FloatArray) -> FloatArray:
+            desired = desired_at(t + offset)
+            if exact and not self._limit_effort:
+                qdd = controller.acceleration(q, qd, *desired)
+                if qdd is not None:
+                    if not _finite(qdd):
+                        raise _Diverged("the joint acceleration became non-finite")
+                    return qdd
+            tau = controller.torque(q, qd, *desired)
+            if not _finite(tau):
+                raise _Diverged(f"the {controller.mode} controller returned a non-finite effort {tau}")
+            clipped = self._limit_effort and bool((np.abs(tau) > self.effort_limit).any())
+            if clipped:
+                tau = np.clip(tau, -self.effort_limit, self.effort_limit)
+            elif exact and (known := controller.commanded_acceleration()) is not None and _finite(known):
+                return known
+            return self._accel(q, qd, tau, f_tool)
+
+        return accel
 
     def _dynamics(
         self,
@@ -461,18 +545,26 @@ class Simulation:
         reaction = None
         if a1 is None or locked is not None or not _finite(a1):
             a1, reaction = self._dynamics(q, qd, tau, f_tool, locked)
+        return self._runge_kutta(q, qd, h, a1, lambda _offset, qs, qds: self._accel(qs, qds, tau, f_tool, locked)), reaction
+
+    def _runge_kutta(
+        self, q: FloatArray, qd: FloatArray, h: float, a1: FloatArray, accel: _StageAccel
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(q, qd) after a step of ``h`` of the integrator from (q, qd) with start
+        acceleration ``a1``, and a1; ``accel(offset, q, qd)`` gives a later stage's
+        acceleration, ``offset`` its time in the step."""
         if self._integrator == "euler":
             qd1 = qd + h * a1
-            return (q + h * qd1, qd1, a1), reaction
+            return q + h * qd1, qd1, a1
         v2 = qd + 0.5 * h * a1
-        a2 = self._accel(q + 0.5 * h * qd, v2, tau, f_tool, locked)
+        a2 = accel(0.5 * h, q + 0.5 * h * qd, v2)
         v3 = qd + 0.5 * h * a2
-        a3 = self._accel(q + 0.5 * h * v2, v3, tau, f_tool, locked)
+        a3 = accel(0.5 * h, q + 0.5 * h * v2, v3)
         v4 = qd + h * a3
-        a4 = self._accel(q + h * v3, v4, tau, f_tool, locked)
+        a4 = accel(h, q + h * v3, v4)
         q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
         qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
-        return (q1, qd1, a1), reaction
+        return q1, qd1, a1
 
     # ------------------------------------------------------------------ joint stops
     def _crosses(self, q: FloatArray) -> bool:
@@ -661,9 +753,11 @@ class Simulation:
         """The effort plus the contact torque at the stage state (q, qd) of this step."""
         return tau + self.contact.torque(q, qd) if self._touching else tau
 
-    def _pull_wrench(self, q: FloatArray, qd: FloatArray) -> FloatArray | None:
+    def _tool_wrench(self, q: FloatArray, qd: FloatArray) -> FloatArray | None:
+        """The wrench on the tool over this step: the pull spring's force and the constant
+        wrench, or None when neither acts."""
         if self._pull is None:
-            return None
+            return self._wrench
         point, stiffness, damping = self._pull
         if self._pull_kin is None:
             self._pull_kin = (Kinematics(self.robot), RobotState(self.robot))
@@ -672,17 +766,25 @@ class Simulation:
         kin.update(at_q.joint_state)
         force = stiffness * (point - kin.endeff_tf.t()) - damping * (kin.jacobian[:3] @ qd)
         self.pull_force = force
-        return np.concatenate([force, np.zeros(3)])
+        wrench = np.concatenate([force, np.zeros(3)])
+        return wrench if self._wrench is None else wrench + self._wrench
 
-    def _publish(self, desired: tuple[FloatArray, FloatArray, FloatArray] | None) -> None:
-        """Write the simulated (and, with a reference, the desired) state to the RobotState."""
+    def _publish(self, desired: Desired | None) -> None:
+        """Write the simulated state to the RobotState and the desired values of the last
+        step: with a joint reference into the state, a task controller's pose into
+        :attr:`desired_pose`."""
         state = self.state
         state.set_q(self.q)
         state.set_qd(self.qd)
         state.set_qdd(self.qdd)
         state.joint_state.set_u(self.effort)
         self._published = (state.q(), state.qd())
-        if self.reference is not None and desired is not None:
-            state.set_q_des(desired[0])
-            state.set_qd_des(desired[1])
-            state.set_qdd_des(desired[2])
+        if desired is None:
+            return
+        self.desired_pose = desired[0] if self.controller.space == "task" else None
+        ref = self._reference
+        if ref is not None and ref.joint is not None:
+            joint = desired if self.controller.space == "joint" else ref.joint(self.time - self.dt)
+            state.set_q_des(joint[0])
+            state.set_qd_des(joint[1])
+            state.set_qdd_des(joint[2])

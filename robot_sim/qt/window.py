@@ -389,7 +389,7 @@ class MainWindow(QtWidgets.QMainWindow):
             measure = manipulability(session.robot, q, session.kin.jacobian)
         except ValueError:  # arms under 6 joints probe their range: an unlimited slider has none
             measure = math.nan
-        self.readout.setText(pose_readout(endeff, measure))
+        self.readout.setText(pose_readout(endeff, measure, session.tracking_error()))
         if self.trail is not None:
             self.trail.add(endeff.t())  # drawn by the view.update() below
         if self.following:

@@ -20,7 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
 from robot_sim.dynamics import GRAVITY
-from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES, Gains, control_gains, make_controller
+from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES, Gains, control_gains
+from robot_sim.control.factory import make_controller
 from robot_sim.model.estimate import estimate_inertials
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
@@ -65,6 +66,18 @@ class Motion:
         return self.mode != "kinematic"
 
     @property
+    def task_space(self) -> bool:
+        """True in a task-space mode (operational space, impedance): the controller follows
+        a desired tool pose, the state's desired joints' or :meth:`follow`'s."""
+        return self.physical and self.sim.controller.space == "task"
+
+    def follow(self, reference: Any) -> None:
+        """Under a task-space mode: follow ``reference`` (a task reference of the
+        simulation's time, see robot_sim/control/reference.py) instead of the state's
+        desired joints; None goes back to them."""
+        self.sim.reference = reference
+
+    @property
     def label(self) -> str:
         """Human-readable name of the mode (``"PD + gravity"``)."""
         return MOTION_LABELS[self.mode]
@@ -76,6 +89,7 @@ class Motion:
             raise ValueError(f"mode must be one of {', '.join(MOTION_MODES)}, got {mode!r}")
         if mode != "kinematic":
             self.sim.controller = make_controller(mode, self.robot, self.gains)
+            self.sim.reference = None
             self.sim.load_state()
         else:
             self.end_pull()

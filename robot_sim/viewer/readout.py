@@ -8,13 +8,20 @@ from robot_sim.viewer import settings as vs
 from robot_sim.transforms import HomogeneousTransform, quaternion_from_rot, rpy_from_rot
 
 
-def pose_readout(endeff_tf: HomogeneousTransform, manipulability: float) -> str:
+def pose_readout(
+    endeff_tf: HomogeneousTransform, manipulability: float, tracking: tuple[float, float] | None = None
+) -> str:
     """Multi-line text of the endeffector pose in the world: position in metres, URDF
-    roll-pitch-yaw in degrees, quaternion (w, x, y, z), and the manipulability √det(J Jᵀ)."""
+    roll-pitch-yaw in degrees, quaternion (w, x, y, z), and the manipulability √det(J Jᵀ);
+    with ``tracking`` (position error [m], rotation error [rad] from the desired pose) a
+    line of the Cartesian tracking error in mm and degrees."""
     x, y, z = endeff_tf.t()
     roll, pitch, yaw = (math.degrees(v) for v in rpy_from_rot(endeff_tf.R()))
     qw, qx, qy, qz = quaternion_from_rot(endeff_tf.R())
     values = dict(x=x, y=y, z=z, roll=roll, pitch=pitch, yaw=yaw, qw=qw, qx=qx, qy=qy, qz=qz)
     # rounding noise of exact zeros would print as "-0.0000"
     clean = {key: round(float(v), 9) + 0.0 for key, v in values.items()}
-    return vs.READOUT_FORMAT.format(m=manipulability, **clean)
+    text = vs.READOUT_FORMAT.format(m=manipulability, **clean)
+    if tracking is not None:
+        text += vs.READOUT_TRACKING_FORMAT.format(mm=1e3 * tracking[0], deg=math.degrees(tracking[1]))
+    return text

@@ -28,13 +28,14 @@ from robot_sim.kinematics import (
     solve_ik,
     workspace_points,
 )
+from robot_sim.control.reference import fixed_pose
 from robot_sim.viewer.motion import Motion
 from robot_sim.viewer.pick_demo import PickDemo
 from robot_sim.viewer.pick_view import clear_view_azimuth
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.model.state import RobotState
-from robot_sim.transforms import HomogeneousTransform
+from robot_sim.transforms import HomogeneousTransform, rotation_log
 
 
 # --------------------------------------------------------------------------------------
@@ -80,11 +81,28 @@ class DemoCircle:
 
     def point_and_velocity(self) -> tuple[np.ndarray, np.ndarray]:
         """Desired world position (3,) in m and linear velocity (3,) in m/s at ``time``."""
+        return self._motion_at(self.time)[:2]
+
+    def _motion_at(self, time: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position [m], velocity [m/s] and acceleration [m/s²] (3,) each at ``time`` [s]."""
         omega = 2.0 * math.pi / self.period
-        c, s = math.cos(omega * self.time), math.sin(omega * self.time)
+        c, s = math.cos(omega * time), math.sin(omega * time)
         point = self.center + self.radius * np.array([c, s, 0.0])
         velocity = self.radius * omega * np.array([-s, c, 0.0])
-        return point, velocity
+        return point, velocity, -self.radius * omega**2 * np.array([c, s, 0.0])
+
+    def task_reference(self, rotation: np.ndarray, start: float) -> Callable[[float], tuple]:
+        """The circle as a task reference of simulated time [s] (at its start at ``start``),
+        the tool held at the world orientation ``rotation`` (3, 3)."""
+        zero, begun = np.zeros(3), self.time
+
+        def at(time: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            point, velocity, accel = self._motion_at(begun + time - start)
+            pose = np.eye(4)
+            pose[:3, :3], pose[:3, 3] = rotation, point
+            return pose, np.concatenate([velocity, zero]), np.concatenate([accel, zero])
+
+        return at
 
 
 @dataclass
@@ -168,10 +186,36 @@ class ViewerSession:
         """True while the arm is simulated (any motion mode but kinematic)."""
         return self._motion is not None and self._motion.physical
 
+    @property
+    def task_space(self) -> bool:
+        """True in a task-space motion mode (operational space, impedance): the IK target,
+        dragged, is the tool's desired pose itself (no IK), and the circle demo a Cartesian
+        reference."""
+        return self.physical and self.motion.task_space
+
     def set_motion(self, mode: str) -> None:
-        """Switch the motion mode (control.MOTION_MODES); the demo keeps running."""
+        """Switch the motion mode (control.MOTION_MODES); the demo keeps running.  In a
+        task-space mode a shown IK target becomes the tool's desired pose."""
         self.motion.set_mode(mode)
+        if self.task_space:
+            if self.demo is not None:
+                self._follow_demo()
+            elif self.target_tf is not None:
+                self.motion.follow(fixed_pose(self.target_tf))
         self.update_kinematics()
+
+    def tracking_error(self) -> tuple[float, float] | None:
+        """In a physical mode, how far the tool is from its desired pose: position [m] and
+        rotation angle [rad] (the desired pose of a task-space controller, else the tool
+        pose of the desired joints); None in kinematic mode."""
+        if not self.physical:
+            return None
+        desired = self.motion.sim.desired_pose if self.task_space else None
+        if desired is None:
+            desired = self.ghost.endeff_tf.mat
+        actual = self.kin.endeff_tf.mat
+        rotation = rotation_log(desired[:3, :3] @ actual[:3, :3].T)
+        return float(np.linalg.norm(desired[:3, 3] - actual[:3, 3])), float(np.linalg.norm(rotation))
 
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
@@ -184,9 +228,13 @@ class ViewerSession:
         if self.pick is not None:
             self.pick.playing = False
         if self.physical:
+            self.motion.follow(None)  # the sliders' joints are the set point again
             self.state.set_q_des(q)
             self.state.set_qd_des(np.zeros(self.robot.n_dofs))
             self.update_kinematics()
+            if self.target_tf is not None:
+                self.target_tf = HomogeneousTransform(self.ghost.endeff_tf.mat.copy())
+                self.ik_result = None
             return
         self.state.set_q(q)
         self.state.set_q_des(q)
@@ -230,6 +278,11 @@ class ViewerSession:
         shown = self.target_tf is None
         self.target_tf = HomogeneousTransform(self.kin.endeff_tf.mat.copy()) if shown else None
         self.ik_result = None
+        if self.task_space:
+            if shown:
+                self.motion.follow(fixed_pose(self.target_tf))
+            else:
+                self._hold_here()
         return shown
 
     def move_target(self, translation: np.ndarray | None = None, rpy: np.ndarray | None = None) -> bool:
@@ -247,6 +300,10 @@ class ViewerSession:
             mat[:3, :3] = HomogeneousTransform.from_xyz_rpy(np.zeros(3), rpy).R() @ mat[:3, :3]
         self.target_tf = HomogeneousTransform(mat)
         self.demo = None
+        if self.task_space:  # the controller takes the pose itself: no IK
+            self.ik_result = None
+            self.motion.follow(fixed_pose(mat))
+            return True
         self.ik_result = solve_ik(
             self.robot,
             self.target_tf,
@@ -269,21 +326,39 @@ class ViewerSession:
         """Start the circle demo at the current endeffector position, or stop it."""
         if self.demo is not None:
             self.demo = None
-            if self.physical:
+            if self.task_space:
+                self._hold_here()
+            elif self.physical:
                 self.state.set_qd_des(np.zeros(self.robot.n_dofs))
             else:
                 self.state.set_qd(np.zeros(self.robot.n_dofs))
             self.update_kinematics()
             return False
-        start = (self.ghost if self.physical else self.kin).endeff_tf.t()
+        start = (self.ghost if self.physical and not self.task_space else self.kin).endeff_tf.t()
         self.demo = DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0]))
+        if self.task_space:
+            self._follow_demo()
         return True
+
+    def _follow_demo(self) -> None:
+        """The running circle demo as the task-space controller's reference, the tool held
+        at its current orientation."""
+        self.motion.follow(self.demo.task_reference(self.kin.endeff_tf.R().copy(), self.motion.sim.time))
+
+    def _hold_here(self) -> None:
+        """Task space: back to the state's desired joints, set where the arm is, at rest."""
+        self.motion.follow(None)
+        self.state.set_q_des(self.state.q())
+        self.state.set_qd_des(np.zeros(self.robot.n_dofs))
 
     def step_demo(self, dt: float) -> None:
         """Advance the circle demo by ``dt`` s: qd from diff_ik_velocity with position
-        feedback.  Kinematic mode moves the arm; a physical mode moves the desired state
-        (q_des, qd_des), which the controller tracks."""
+        feedback.  Kinematic mode moves the arm; a joint-space physical mode moves the
+        desired state (q_des, qd_des), which the controller tracks; in a task-space mode
+        the simulation follows the circle itself and nothing is solved here."""
         self.demo.time += dt
+        if self.task_space:  # the simulation follows the circle itself (_follow_demo)
+            return
         point, velocity = self.demo.point_and_velocity()
         physical = self.physical
         ee = (self.ghost if physical else self.kin).endeff_tf.t()
@@ -388,10 +463,15 @@ class ViewerSession:
 
     def scene(self) -> Any:
         """The robot_sim.graphics.Scene of the current state."""
+        following = self.task_space and self.motion.sim.reference is not None
+        target = self.target_tf
+        if following and target is None and self.motion.sim.desired_pose is not None:
+            target = HomogeneousTransform(self.motion.sim.desired_pose.copy())  # the demo's moving pose
         return go.Scene(
             self.kin,
-            ghost=self.ghost if self.target_tf is not None or self.ghost_apart() else None,
-            target_tf=self.target_tf,
+            # a task-space controller following a pose has no desired joints: the target shows it
+            ghost=None if following else (self.ghost if self.target_tf is not None or self.ghost_apart() else None),
+            target_tf=target,
             target_reachable=self.target_reachable,
             vectors=(self.velocity_vectors() if self.options.show_vectors else []) + self.pull_vectors(),
             workspace=self.workspace,

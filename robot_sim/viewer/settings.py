@@ -29,6 +29,8 @@ READOUT_FORMAT = ("xyz [m]   {x:+.4f} {y:+.4f} {z:+.4f}\n"
                   "rpy [deg] {roll:+.2f} {pitch:+.2f} {yaw:+.2f}\n"
                   "quat wxyz {qw:+.4f} {qx:+.4f} {qy:+.4f} {qz:+.4f}\n"
                   "manipulability {m:.4g}")
+#: Added below the pose in a physical mode: the tool's distance from its desired pose.
+READOUT_TRACKING_FORMAT = "\ntracking error {mm:.2f} mm {deg:.2f}°"
 
 # Endeffector trail (toggle key in KEY_BINDINGS)
 TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
