@@ -815,6 +815,7 @@ def friction_torque(robot: RobotParams, qd: ArrayLike) -> FloatArray:
     tau = np.zeros(QD.shape) if friction is None else friction.T
     return tau[0] if single else tau
 
+
 def mass_matrix(robot: RobotParams, q: ArrayLike) -> FloatArray:
     """Joint-space inertia matrix M(q) (n, n) or (N, n, n) [kg·m², kg], symmetric positive
     definite, reflected motor inertia G²·Jm on the diagonal (composite rigid bodies)."""

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from robot_sim.control.batch import BatchSimulation
-from robot_sim.control.controllers import control_gains, make_controller
+from robot_sim.control.controllers import control_gains
+from robot_sim.control.factory import make_controller
 from robot_sim.control.simulation import Simulation
 from robot_sim.io.robot_file import load_robot
 

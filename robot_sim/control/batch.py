@@ -25,7 +25,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
-from robot_sim.control.controllers import ComputedTorque, Controller, Gains, make_controller
+from robot_sim.control.controllers import ComputedTorque, Controller, Gains
+from robot_sim.control.factory import make_controller
 from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, stop_message
 from robot_sim.model.params import RobotParams
 
@@ -40,6 +41,18 @@ def _row_finite(X: FloatArray) -> NDArray[np.bool_]:
     return np.isfinite(np.einsum("ij,ij->i", X, X))
 
 
+def _sampled_joint_space(controller: Controller) -> Controller:
+    """``controller`` if it is a sampled joint-space controller (what the batch steps);
+    ValueError for a task-space one (osc, impedance, resolved rate: evaluated at every
+    stage by ``Simulation``; their ``torque`` takes (N, n) states for a batched loop)."""
+    if controller.space != "joint" or controller.continuous:
+        raise ValueError(
+            f"BatchSimulation steps the joint-space controllers (passive, pd, pdg, ct); {controller.mode} is a "
+            "task-space controller: run it with Simulation (its torque() is batched over (N, n) states)"
+        )
+    return controller
+
+
 def batched_controller(robot: RobotParams, controller: str | Controller, gains: Gains | Sequence[Gains] | None,
                        n_envs: int) -> Controller:
     """The controller of mode ``controller`` (or the given one) with its gains stacked per
@@ -48,9 +61,10 @@ def batched_controller(robot: RobotParams, controller: str | Controller, gains: 
     if isinstance(controller, Controller):
         if gains is not None:
             raise ValueError("gains go with a motion mode name, not with a Controller instance")
+        _sampled_joint_space(controller)
         return controller
     if gains is None or isinstance(gains, Gains):
-        return make_controller(controller, robot, gains)
+        return _sampled_joint_space(make_controller(controller, robot, gains))
     gains = list(gains)
     if len(gains) != n_envs or not all(isinstance(g, Gains) for g in gains):
         raise ValueError(f"gains must be one Gains or a sequence of {n_envs} (one per environment), got {len(gains)} items")
@@ -58,7 +72,7 @@ def batched_controller(robot: RobotParams, controller: str | Controller, gains: 
         kp=np.stack([g.kp for g in gains]), kd=np.stack([g.kd for g in gains]),
         omega=gains[0].omega, zeta=gains[0].zeta,
     )
-    ctrl = make_controller(controller, robot, stacked)
+    ctrl = _sampled_joint_space(make_controller(controller, robot, stacked))
     if isinstance(ctrl, ComputedTorque):  # Kp = ω², Kd = 2ζω per environment, as ComputedTorque forms them
         ctrl.kp = np.array([[g.omega**2] for g in gains])
         ctrl.kd = np.array([[2.0 * g.zeta * g.omega] for g in gains])

@@ -46,9 +46,12 @@ DEFAULT_BANDWIDTH_HZ = 2.0
 #: Default damping ratio: critically damped, no overshoot on a step of the desired value.
 DEFAULT_DAMPING = 1.0
 
+#: The joint-space controllers of this module (sampled: effort held over a step).
+JOINT_MODES = ("passive", "pd", "pdg", "ct")
 #: Physical motion modes (a controller in the simulation loop), ``--motion``'s choices:
-#: the joint-space controllers, then operational-space and impedance control.
-PHYSICAL_MODES = ("passive", "pd", "pdg", "ct", "osc", "impedance")
+#: the joint-space controllers, then operational-space and impedance control
+#: (robot_sim/control/task_space.py).
+PHYSICAL_MODES = (*JOINT_MODES, "osc", "impedance")
 #: Motion modes of the viewer, in the order the window cycles them.  ``kinematic`` is no
 #: physics at all (the joints follow the desired values directly).
 MOTION_MODES = ("kinematic", *PHYSICAL_MODES)

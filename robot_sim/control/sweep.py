@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.control.batch import BatchSimulation, batched_controller
-from robot_sim.control.controllers import PHYSICAL_MODES, Gains, control_gains
+from robot_sim.control.controllers import JOINT_MODES, Gains, control_gains
 from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS
 from robot_sim.io.files import write_atomic
 from robot_sim.model.inertials import LinkInertials, _combine
@@ -52,7 +52,7 @@ FloatArray = NDArray[np.float64]
 
 METRICS = ("tracking_rms", "peak_effort", "settling_time", "limit_hits", "diverged")
 PARAMETERS = ("kp", "kd", "bandwidth", "damping", "q0", "q_des", "payload")
-MODES = tuple(m for m in PHYSICAL_MODES if m != "passive")  # the controlled modes
+MODES = tuple(m for m in JOINT_MODES if m != "passive")  # the controlled modes BatchSimulation steps
 #: A joint has settled when within this fraction of its step (and at least the floor).
 SETTLE_FRACTION = 0.02
 SETTLE_FLOOR = 1e-3  # rad or m
