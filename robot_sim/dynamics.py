@@ -42,7 +42,7 @@ from __future__ import annotations
 import math
 import os
 import weakref
-from typing import NamedTuple, Union
+from typing import Any, NamedTuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -803,6 +803,15 @@ def bias_torque(
     single, (Q, QD) = _arguments(robot, q, _backend != "compiled", qd=qd)
     tau = _rnea(robot, Q, QD, None, gravity, f_tool).T
     return tau[0] if single else tau
+
+
+def compiled_kernels(robot: RobotParams, gravity: ArrayLike = GRAVITY) -> tuple[Any, FloatArray, FloatArray]:
+    """(the compiled kernels module, ``robot``'s parameter table, gravity in frame 0 (3,)):
+    for other compiled code built on these kernels (the operational-space step passes
+    ``crba_batch`` and ``rnea_batch`` into its own kernel).  Imports numba."""
+    model = _model(robot)
+    kernels, table = model.compiled()
+    return kernels, table, model.gravity_array(robot, gravity)
 
 
 def friction_torque(robot: RobotParams, qd: ArrayLike) -> FloatArray:

@@ -20,7 +20,7 @@ ALLOWED = {
     "dynamics_compiled": {"jit"},  # numba kernels of dynamics: numpy, numba and their settings
     "dynamics": {"model", "kinematics", "dynamics_compiled", "transforms"},
     "collision": {"model", "io", "kinematics", "dynamics", "jit", "transforms"},
-    "control": {"model", "io", "kinematics", "dynamics", "collision", "planning", "transforms"},
+    "control": {"model", "io", "kinematics", "dynamics", "dynamics_compiled", "jit", "collision", "planning", "transforms"},
     "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},
     "graphics": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},
     "viewer": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics",

@@ -152,6 +152,14 @@ class Controller:
         torque does: it is the reference acceleration), else None."""
         return None
 
+    def integrate(self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
+                  desired_at: Any, limit: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+        """A continuous controller may integrate its own closed loop over one step on its
+        model (see ``OperationalSpace.integrate``): (q, q̇) after it, the acceleration and
+        the effort at its start; None (the default) lets the simulation step it stage by
+        stage."""
+        return None
+
     def acceleration(self, q: FloatArray, qd: FloatArray, *desired: FloatArray) -> FloatArray | None:
         """The closed-loop joint acceleration on this controller's model at (q, q̇) for the
         ``desired`` values, when the law yields it without its torque (operational space

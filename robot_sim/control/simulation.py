@@ -395,6 +395,16 @@ class Simulation:
         q, qd, t = self.q, self.qd, self.time
         desired = desired_at(t)
         self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
+        if self.controller.continuous and not self._any_at_limit and self._pull is None and self._wrench is None \
+                and not self._touching:
+            fused = self.controller.integrate(q, qd, t, self.dt, self._integrator, desired_at, self.effort_limit)
+            if fused is not None:  # the whole step in one call of the controller, within every limit
+                q1, qd1, qdd, tau = fused
+                stops = None
+                if self._limit_position and self._crosses(q1):
+                    q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
+                self._finish(q1, qd1, qdd, tau, tau, np.zeros(self.robot.n_dofs, dtype=bool), stops)
+                return desired
         command = self.controller.torque(q, qd, *desired)
         if not _finite(command):
             raise _Diverged(f"the {self.controller.mode} controller returned a non-finite effort {command}")
@@ -436,6 +446,15 @@ class Simulation:
             q1, qd1, qdd = self._stepped(q, qd, tau, f_tool)[0]
             if self._limit_position and self._crosses(q1):
                 q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
+        self._finish(q1, qd1, qdd, command, tau, saturated, stops)
+        return desired
+
+    def _finish(
+        self, q1: FloatArray, qd1: FloatArray, qdd: FloatArray, command: FloatArray, tau: FloatArray,
+        saturated: NDArray[np.bool_], stops: list | None,
+    ) -> None:
+        """End a step at (q1, qd1): velocity limits, finiteness, the stops' outcome, the
+        step's record."""
         velocity_limited = self.velocity_limited
         if self._limit_velocity:
             velocity_limited = np.abs(qd1) > self.velocity_limit
@@ -453,7 +472,6 @@ class Simulation:
         self.velocity_limited = velocity_limited
         self.time += self.dt
         self.steps += 1
-        return desired
 
     def _continuous_accel(self, desired_at: Callable[[float], Desired], t: float, f_tool: FloatArray | None) -> _StageAccel:
         """Stage accelerations of a continuous controller, evaluated at each stage's state

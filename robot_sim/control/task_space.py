@@ -41,7 +41,7 @@ This module imports neither OpenGL nor Qt.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -51,7 +51,7 @@ from robot_sim.control.controllers import ComputedTorque, Controller, Gains, con
 from robot_sim.control.task_error import rotation_command, rotation_logs
 from robot_sim.kinematics import characteristic_length, task_rows, tool_kinematics
 from robot_sim.model.messages import clip_repr
-from robot_sim.model.params import RobotParams
+from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.transforms import rotation_log
 
 FloatArray = NDArray[np.float64]
@@ -249,10 +249,126 @@ class OperationalSpace(TaskSpaceController):
         m = self.rows.shape[0]
         self._kkt_shape = (robot.n_dofs + m, robot.n_dofs + m)
         self._inv_w2 = np.diag(1.0 / self.weights**2)
+        self._kernel: tuple | None = None
+        self._packed: tuple | None = None  # the last desired values packed for osc_step
+        self._limit: tuple | None = None  # the last effort limits given to integrate, as osc_step takes them
+        self._step_kernel: tuple | None = None
+
+    def _step_parts(self) -> tuple:
+        """(osc_step, dynamics table, frame-0 gravity, kinematic table, modified, base,
+        tool, rows), made on first use."""
+        if self._step_kernel is None:
+            from robot_sim.control import task_space_compiled as tc
+
+            _, table, g0 = dynamics.compiled_kernels(self.robot)
+            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[1:])
+        return self._step_kernel
+
+    def integrate(
+        self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
+        desired_at: Callable[[float], tuple], limit: FloatArray,
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+        """One step of length ``h`` [s] of the closed loop on this controller's model from
+        (q, q̇) (n,) at time ``t``, by ``integrator`` ("rk4" or "euler") with the law
+        evaluated at every stage on ``desired_at(stage time)``: (q, q̇) after it, the
+        acceleration and the effort [N·m or N] at its start.  One compiled call
+        (task_space_compiled.osc_step); None where it does not apply (the NumPy backend,
+        non-finite values, an effort beyond ``limit`` (n,) at some stage): then the caller
+        steps the law stage by stage."""
+        n = self.robot.n_dofs
+        if dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
+            return None
+        step, table, g0, K, modified, base, tool, rows = self._step_parts()
+        desired = (desired_at(t), desired_at(t + 0.5 * h), desired_at(t + h))
+        fixed = desired[1] is desired[0] and desired[2] is desired[0]
+        if fixed and self._packed is not None and self._packed[0] is desired[0]:
+            packed = self._packed[1]
+        else:
+            try:
+                packed = self._pack(desired)
+            except (TypeError, ValueError):  # the stage-by-stage law says what is wrong
+                return None
+            self._packed = (desired[0], packed) if fixed else None
+        q1, qd1, a1, tau, e = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(rows.shape[0])
+        if self._limit is None or self._limit[0] is not limit:
+            self._limit = (limit, np.ascontiguousarray(limit, dtype=float), bool(np.isfinite(limit).any()))
+        status = step(table, g0, self._limit[1], self._limit[2], K, modified, base, tool, rows, self.weights,
+                      integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
+                      self.eps_inertia, q1, qd1, a1, tau, e)
+        if status != 0:
+            return None
+        self.error, self._qdd = e, a1
+        return q1, qd1, a1, tau
+
+    def _pack(self, desired: tuple) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """TD (3, 4, 4), VD, AD (3, 6) and the posture's POST (3, 3, n) of three desired values."""
+        n = self.robot.n_dofs
+        TD = np.empty((3, 4, 4))
+        VD, AD = np.empty((3, 6)), np.empty((3, 6))
+        POST = np.zeros((3, 3, n))
+        for i, d in enumerate(desired):
+            TD[i], VD[i], AD[i] = getattr(d[0], "mat", d[0]), d[1], d[2]
+            if len(d) > 3:
+                POST[i] = np.asarray(d[3], dtype=float)
+            elif self.posture is not None:
+                POST[i, 0] = self.posture
+        return TD, VD, AD, POST
+
+    def _kernel_parts(self) -> tuple:
+        """(osc_one, kinematic table, modified, base, tool, rows) of the compiled law, made
+        on first use (numba is imported then)."""
+        if self._kernel is None:
+            from robot_sim.control import task_space_compiled as tc
+
+            r = self.robot
+            table = tc.kinematic_table(r.jtype == JTYPE_REVOLUTE, r.dh_th, r.dh_d, r.dh_a, np.cos(r.dh_alpha), np.sin(r.dh_alpha))
+            self._kernel = (tc.osc_one, table, bool(r.is_modified), np.ascontiguousarray(r.base_tf.mat),
+                            np.ascontiguousarray(r.tool_tf.mat), np.ascontiguousarray(self.rows, dtype=np.int64))
+        return self._kernel
+
+    def _compiled(self, q: Any, qd: Any, pose_d: Any, twist_d: Any, accel_d: Any, joints: Any, lam2: float):
+        """(q̈, τ − b, e, λ²) of one configuration from the compiled law
+        (task_space_compiled, used with the compiled dynamics backend), or None where it
+        does not apply (not one configuration, non-finite input, no solution): then the
+        NumPy law runs and says what is wrong."""
+        n = self.robot.n_dofs
+        if dynamics.backend() != "compiled" or np.ndim(q) != 1 or np.shape(q) != (n,) or np.shape(qd) != (n,):
+            return None
+        kernel, table, modified, base, tool, rows = self._kernel_parts()
+        try:
+            q, qd, Td, Vd, Ad = (x if type(x) is np.ndarray and x.dtype == np.float64 and x.flags.c_contiguous
+                                 else np.ascontiguousarray(x, dtype=float)
+                                 for x in (q, qd, getattr(pose_d, "mat", pose_d), twist_d, accel_d))
+        except (TypeError, ValueError):
+            return None
+        if Td.shape != (4, 4) or Vd.shape != (6,) or Ad.shape != (6,):
+            return None
+        if self.posture is None:
+            qdd0 = np.zeros(n)
+        elif joints is None:
+            qdd0 = self.kp * (self.posture - q) - self.kd * qd
+        else:  # the kernel checks that these are finite
+            try:
+                q_d, qd_d, qdd_d = joints
+            except (TypeError, ValueError):
+                return None
+            if not (np.shape(q_d) == np.shape(qd_d) == np.shape(qdd_d) == (n,)):
+                return None
+            qdd0 = qdd_d + self.kp * (q_d - q) + self.kd * (qd_d - qd)
+        qdd, task, e = np.empty(n), np.empty(n), np.empty(rows.shape[0])
+        M = dynamics.mass_matrix(self.robot, q)
+        lam = kernel(table, modified, base, tool, rows, self.weights, q, qd, Td, Vd, Ad, M, qdd0,
+                     self.kp, self.kd, lam2, self.eps_inertia, qdd, task, e)
+        return None if math.isnan(lam) else (qdd, task, e, lam)
 
     def torque(
         self, q: ArrayLike, qd: ArrayLike, pose_d: ArrayLike, twist_d: ArrayLike, accel_d: ArrayLike, joints: Any = None
     ) -> FloatArray:  # type: ignore[override]
+        fast = self._compiled(q, qd, pose_d, twist_d, accel_d, joints, -1.0)
+        if fast is not None:
+            self._qdd, task, self.error, lam2 = fast
+            self._lam2 = np.array([lam2])
+            return task + dynamics.bias_torque(self.robot, q, qd)
         single, Q, QD = _batch(self.robot, q, qd)
         qdd, M, e = self._law(Q, QD, *_desired(pose_d, twist_d, accel_d, Q.shape[0]), joints, None)
         task = _mv(M, qdd)
@@ -268,6 +384,10 @@ class OperationalSpace(TaskSpaceController):
         """The closed-loop q̈ (no bias call: q̈ = M⁻¹ (τ − b) does not need b), with the
         singularity damping of the last :meth:`torque` call (the step's start) when it was
         for as many configurations."""
+        if self._lam2 is not None and self._lam2.shape[0] == 1:
+            fast = self._compiled(q, qd, pose_d, twist_d, accel_d, joints, float(self._lam2[0]))
+            if fast is not None:
+                return fast[0]
         single, Q, QD = _batch(self.robot, q, qd)
         lam2 = self._lam2 if self._lam2 is not None and self._lam2.shape[0] == Q.shape[0] else None
         qdd = self._law(Q, QD, *_desired(pose_d, twist_d, accel_d, Q.shape[0]), joints, lam2)[0]

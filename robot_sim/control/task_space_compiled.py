@@ -1,0 +1,404 @@
+"""Compiled (numba) operational-space law for one configuration.
+
+The same algorithm as :meth:`robot_sim.control.task_space.OperationalSpace._law` (the
+NumPy code, which stays the reference the tests compare against): the chain walk to the
+joint axes and the tool, J and J̇q̇, the task error and the log-map rotation command, and
+the solve for q̈.  The solve uses the Schur complement of the same KKT system,
+``X = M⁻¹ Jᵀ``, ``F = (J X + λ² W⁻²)⁻¹ (a − J̇q̇ − J q̈₀)``, ``q̈ = q̈₀ + X F``, by Cholesky
+factorisations.  M and the bias torque come from the compiled dynamics kernels
+(``dynamics_compiled``), called from here.
+
+Imported on first use only (numba takes about half a second to import), compiled once per
+machine (``cache=True``).  This module imports numpy, numba, the compiled dynamics kernels and the package numba settings only.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from robot_sim.dynamics_compiled import crba_batch, rnea_batch
+from robot_sim.jit import JIT
+
+# Columns of the kinematic table K (n, 6).
+REV, TH, D, A, CA, SA = range(6)
+#: Angle [rad] below which the SO(3) coefficients use their series (as task_error).
+SERIES_ANGLE = 0.1
+_NEAR_PI_SIN = 1e-3
+
+
+def kinematic_table(revolute: np.ndarray, theta: np.ndarray, d: np.ndarray, a: np.ndarray,
+                    cos_alpha: np.ndarray, sin_alpha: np.ndarray) -> np.ndarray:
+    """K (n, 6): joint type (1 revolute), DH θ and d offsets [rad, m], a [m], cos α, sin α."""
+    return np.ascontiguousarray(np.stack([np.asarray(revolute, dtype=float), theta, d, a, cos_alpha, sin_alpha], axis=1))
+
+
+@njit(**JIT)
+def _chain(K, modified, base, tool, q, Z, Pj, T):
+    """Joint axes Z[j] and axis points Pj[j] (world), and the tool pose into T (4, 4)."""
+    n = K.shape[0]
+    X = base[:3, 0].copy()
+    Y = base[:3, 1].copy()
+    Zc = base[:3, 2].copy()
+    P = base[:3, 3].copy()
+    for j in range(n):
+        rev = K[j, REV] != 0.0
+        th = K[j, TH] + q[j] if rev else K[j, TH]
+        d = K[j, D] if rev else K[j, D] + q[j]
+        c, s, ca, sa, a = math.cos(th), math.sin(th), K[j, CA], K[j, SA], K[j, A]
+        if not modified:
+            Z[j, :] = Zc
+            Pj[j, :] = P
+        for k in range(3):
+            if modified:
+                y, z = ca * Y[k] + sa * Zc[k], ca * Zc[k] - sa * Y[k]
+                P[k] += a * X[k]
+                x = c * X[k] + s * y
+                y = c * y - s * X[k]
+                X[k], Y[k], Zc[k] = x, y, z
+                P[k] += d * z
+            else:
+                x = c * X[k] + s * Y[k]
+                y = c * Y[k] - s * X[k]
+                P[k] += d * Zc[k] + a * x
+                Y[k], Zc[k] = ca * y + sa * Zc[k], ca * Zc[k] - sa * y
+                X[k] = x
+        if modified:
+            Z[j, :] = Zc
+            Pj[j, :] = P
+    for r in range(3):
+        for k in range(3):
+            T[r, k] = X[r] * tool[0, k] + Y[r] * tool[1, k] + Zc[r] * tool[2, k]
+        T[r, 3] = P[r] + X[r] * tool[0, 3] + Y[r] * tool[1, 3] + Zc[r] * tool[2, 3]
+        T[3, r] = 0.0
+    T[3, 3] = 1.0
+
+
+@njit(**JIT)
+def _jacobian_and_bias(K, Z, Pj, pe, qd, J, jd):
+    """J (6, n) and J̇q̇ (6,) as kinematics._jacobian_and_bias."""
+    n = K.shape[0]
+    wx = wy = wz = cx = cy = cz = 0.0
+    U = np.empty((n, 3))
+    DU = np.empty((n, 3))
+    PD = np.empty((n, 3))
+    for j in range(n):
+        ux, uy, uz = Z[j, 0] * qd[j], Z[j, 1] * qd[j], Z[j, 2] * qd[j]
+        px, py, pz = Pj[j, 0], Pj[j, 1], Pj[j, 2]
+        U[j, 0], U[j, 1], U[j, 2] = ux, uy, uz
+        DU[j, 0], DU[j, 1], DU[j, 2] = wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux
+        PD[j, 0], PD[j, 1], PD[j, 2] = wy * pz - wz * py + cx, wz * px - wx * pz + cy, wx * py - wy * px + cz
+        if K[j, REV] != 0.0:
+            wx, wy, wz = wx + ux, wy + uy, wz + uz
+            cx, cy, cz = cx - (uy * pz - uz * py), cy - (uz * px - ux * pz), cz - (ux * py - uy * px)
+        else:
+            cx, cy, cz = cx + ux, cy + uy, cz + uz
+    ex, ey, ez = pe[0], pe[1], pe[2]
+    vx, vy, vz = wy * ez - wz * ey + cx, wz * ex - wx * ez + cy, wx * ey - wy * ex + cz
+    for k in range(6):
+        jd[k] = 0.0
+    for j in range(n):
+        zx, zy, zz = Z[j, 0], Z[j, 1], Z[j, 2]
+        dx, dy, dz = DU[j, 0], DU[j, 1], DU[j, 2]
+        if K[j, REV] != 0.0:
+            lx, ly, lz = ex - Pj[j, 0], ey - Pj[j, 1], ez - Pj[j, 2]
+            J[0, j], J[1, j], J[2, j] = zy * lz - zz * ly, zz * lx - zx * lz, zx * ly - zy * lx
+            J[3, j], J[4, j], J[5, j] = zx, zy, zz
+            rx, ry, rz = vx - PD[j, 0], vy - PD[j, 1], vz - PD[j, 2]
+            ux, uy, uz = U[j, 0], U[j, 1], U[j, 2]
+            jd[0] += dy * lz - dz * ly + uy * rz - uz * ry
+            jd[1] += dz * lx - dx * lz + uz * rx - ux * rz
+            jd[2] += dx * ly - dy * lx + ux * ry - uy * rx
+            jd[3] += dx
+            jd[4] += dy
+            jd[5] += dz
+        else:
+            J[0, j], J[1, j], J[2, j] = zx, zy, zz
+            J[3, j] = J[4, j] = J[5, j] = 0.0
+            jd[0] += dx
+            jd[1] += dy
+            jd[2] += dz
+
+
+@njit(**JIT)
+def _log(R, phi):
+    """Rotation vector of R (3, 3) into phi (as transforms.rotation_log)."""
+    wx, wy, wz = R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]
+    two_sin = math.sqrt(wx * wx + wy * wy + wz * wz)
+    cos = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
+    angle = math.atan2(0.5 * two_sin, cos)
+    if two_sin < 1e-12 and cos > 0.0:
+        phi[0], phi[1], phi[2] = 0.5 * wx, 0.5 * wy, 0.5 * wz
+        return
+    if two_sin > _NEAR_PI_SIN or cos > 0.0:
+        f = angle / two_sin
+        phi[0], phi[1], phi[2] = f * wx, f * wy, f * wz
+        return
+    best, i = -1.0, 0
+    for k in range(3):
+        kk = (R[k, k] - cos) / (1.0 - cos)
+        if kk > best:
+            best, i = kk, k
+    axis = np.empty(3)
+    for k in range(3):
+        axis[k] = (0.5 * (R[k, i] + R[i, k]) - (cos if k == i else 0.0)) / (1.0 - cos)
+    norm = math.sqrt(axis[0] ** 2 + axis[1] ** 2 + axis[2] ** 2)
+    sign = -1.0 if axis[0] * wx + axis[1] * wy + axis[2] * wz < 0.0 else 1.0
+    for k in range(3):
+        phi[k] = sign * angle * axis[k] / norm
+
+
+@njit(**JIT)
+def _coefficients(t):
+    if t < SERIES_ANGLE:
+        t2 = t * t
+        t4 = t2 * t2
+        return (0.5 - t2 / 24.0 + t4 / 720.0, 1.0 / 6.0 - t2 / 120.0 + t4 / 5040.0,
+                1.0 / 12.0 + t2 / 720.0 + t4 / 30240.0, -1.0 / 12.0 + t2 / 180.0 - t4 / 6720.0,
+                -1.0 / 60.0 + t2 / 1260.0 - t4 / 60480.0)
+    s, c = math.sin(t), math.cos(t)
+    t2 = t * t
+    return ((1.0 - c) / t2, (t - s) / (t2 * t), 1.0 / t2 - (1.0 + c) / (2.0 * t * s),
+            (t * s - 2.0 * (1.0 - c)) / (t2 * t2), ((1.0 - c) * t - 3.0 * (t - s)) / (t2 * t2 * t))
+
+
+@njit(**JIT)
+def _mv(A, x, out):
+    """out = A x by loops (BLAS costs more than the product at these sizes)."""
+    for i in range(A.shape[0]):
+        acc = 0.0
+        for k in range(A.shape[1]):
+            acc += A[i, k] * x[k]
+        out[i] = acc
+
+
+@njit(**JIT)
+def _cr(a, b):
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+@njit(**JIT)
+def _rotation_command(Re, phi, omega, omega_d, alpha_d, kp, kd, out):
+    """ω̇ into out (as task_error._rotation_command)."""
+    a, b, c, da, db = _coefficients(math.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2))
+    rw = np.empty(3)
+    _mv(Re, omega, rw)
+    we = omega_d - rw
+    p_w = _cr(phi, we)
+    phi_dot = we - 0.5 * p_w + c * _cr(phi, p_w)
+    f = -kd * phi_dot - kp * phi
+    p_f = _cr(phi, f)
+    p_d = _cr(phi, phi_dot)
+    rate = phi[0] * phi_dot[0] + phi[1] * phi_dot[1] + phi[2] * phi_dot[2]
+    rhs = alpha_d - _cr(we, rw) - (f + a * p_f + b * _cr(phi, p_f)) \
+        - (rate * da * p_d + rate * db * _cr(phi, p_d) + b * _cr(phi_dot, p_d))
+    for k in range(3):
+        out[k] = Re[0, k] * rhs[0] + Re[1, k] * rhs[1] + Re[2, k] * rhs[2]
+
+
+@njit(**JIT)
+def _cholesky(A):
+    """Lower Cholesky factor of A in place; False if A is not positive definite."""
+    n = A.shape[0]
+    for j in range(n):
+        diag = A[j, j]
+        for k in range(j):
+            diag -= A[j, k] * A[j, k]
+        if not diag > 0.0:
+            return False
+        A[j, j] = math.sqrt(diag)
+        for i in range(j + 1, n):
+            acc = A[i, j]
+            for k in range(j):
+                acc -= A[i, k] * A[j, k]
+            A[i, j] = acc / A[j, j]
+    return True
+
+
+@njit(**JIT)
+def _solve(L, b, x):
+    """x with L Lᵀ x = b."""
+    n = L.shape[0]
+    for i in range(n):
+        acc = b[i]
+        for k in range(i):
+            acc -= L[i, k] * x[k]
+        x[i] = acc / L[i, i]
+    for i in range(n - 1, -1, -1):
+        acc = x[i]
+        for k in range(i + 1, n):
+            acc -= L[k, i] * x[k]
+        x[i] = acc / L[i, i]
+
+
+@njit(**JIT)
+def osc_one(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
+    """The OSC law at (q, q̇): q̈ into ``qdd``, τ − b = M q̈ into ``task``, the task error
+    into ``e`` (m,); returns λ² (computed from W J M⁻¹ Jᵀ W when ``lam2`` < 0, else
+    ``lam2``), or NaN when an input is not finite or the system cannot be solved."""
+    for v in (q, qd, Vd, Ad, qdd0):
+        for x in v:
+            if not math.isfinite(x):
+                return math.nan
+    for r in range(4):
+        for k in range(4):
+            if not math.isfinite(Td[r, k]):
+                return math.nan
+    return _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e)
+
+
+@njit(**JIT)
+def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
+    """:func:`osc_one` without the input checks."""
+    n, m = K.shape[0], rows.shape[0]
+    Z, Pj, T = np.empty((n, 3)), np.empty((n, 3)), np.empty((4, 4))
+    _chain(K, modified, base, tool, q, Z, Pj, T)
+    J, jd = np.empty((6, n)), np.empty(6)
+    _jacobian_and_bias(K, Z, Pj, T[:3, 3], qd, J, jd)
+    twist = np.empty(6)
+    _mv(J, qd, twist)
+    accel = np.empty(6)
+    err = np.empty(6)
+    for k in range(3):
+        err[k] = Td[k, 3] - T[k, 3]
+        accel[k] = Ad[k] + kd * (Vd[k] - twist[k]) + kp * err[k]
+    if m == 6:
+        Re = np.empty((3, 3))
+        for r in range(3):
+            for k in range(3):
+                Re[r, k] = Td[r, 0] * T[k, 0] + Td[r, 1] * T[k, 1] + Td[r, 2] * T[k, 2]  # R_d Rᵀ
+        phi = np.empty(3)
+        _log(Re, phi)
+        err[3:] = phi
+        out = np.empty(3)
+        _rotation_command(Re, phi, twist[3:].copy(), Vd[3:].copy(), Ad[3:].copy(), kp, kd, out)
+        accel[3:] = out
+    Jr = np.empty((m, n))
+    goal = np.empty(m)
+    for i in range(m):
+        Jr[i, :] = J[rows[i], :]
+        e[i] = err[rows[i]]
+        acc = 0.0
+        for j in range(n):
+            acc += J[rows[i], j] * qdd0[j]
+        goal[i] = accel[rows[i]] - jd[rows[i]] - acc
+    L = M.copy()
+    if not _cholesky(L):
+        return math.nan
+    X = np.empty((n, m))
+    col = np.empty(n)
+    for i in range(m):
+        _solve(L, Jr[i], col)
+        X[:, i] = col
+    S = np.empty((m, m))
+    for i in range(m):
+        for k in range(m):
+            acc = 0.0
+            for j in range(n):
+                acc += Jr[i, j] * X[j, k]
+            S[i, k] = acc
+    if lam2 < 0.0:
+        W = np.empty((m, m))
+        for i in range(m):
+            for k in range(m):
+                W[i, k] = S[i, k] * weights[i] * weights[k]
+        s_min = np.linalg.eigvalsh(W)[0]
+        lam2 = max(eps - s_min, 0.0)
+    for i in range(m):
+        S[i, i] += lam2 / (weights[i] * weights[i])
+    if not _cholesky(S):
+        return math.nan
+    F = np.empty(m)
+    _solve(S, goal, F)
+    for j in range(n):
+        acc = qdd0[j]
+        for i in range(m):
+            acc += X[j, i] * F[i]
+        qdd[j] = acc
+    _mv(M, qdd, task)
+    return lam2
+
+
+@njit(**JIT)
+def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h, q, qd, TD, VD, AD, POST,
+             use_posture, kp, kd, eps, q1, qd1, a1, tau, e):
+    """One integration step of the OSC closed loop from (q, q̇), the law evaluated at every
+    stage on the desired values at the stage's time: TD (3, 4, 4), VD, AD (3, 6) at the
+    step's start, middle and end, and the posture's (q_d, q̇_d, q̈_d) there, POST (3, 3, n)
+    (used when ``use_posture``).  Semi-implicit Euler (``rk4`` False) or classical RK4 as
+    ``Simulation`` does them.  Writes (q, q̇) after
+    the step into q1, qd1, the start's acceleration into a1, its effort (τ = M q̈ + b) into
+    tau and its task error into e.  ``P``, ``g0``: the dynamics kernels' table and frame-0
+    gravity (``dynamics.compiled_kernels``).  Returns 0, 1 when an input or a stage is not finite or
+    cannot be solved, 2 when a stage's effort exceeds ``limit`` (n,) (the caller then
+    saturates it step by step; checked only when ``check``)."""
+    n = K.shape[0]
+    for v in (q, qd):
+        for x in v:
+            if not math.isfinite(x):
+                return 1
+    for x in TD.ravel():
+        if not math.isfinite(x):
+            return 1
+    for x in VD.ravel():
+        if not math.isfinite(x):
+            return 1
+    for x in AD.ravel():
+        if not math.isfinite(x):
+            return 1
+    for x in POST.ravel():
+        if not math.isfinite(x):
+            return 1
+    Q, QDs = np.empty((1, n)), np.empty((1, n))
+    MM, TAU, ZERO = np.empty((1, n, n)), np.empty((1, n)), np.zeros((1, n))
+    FEXT = np.zeros((1, 6))
+    qdd0, task, err = np.empty(n), np.empty(n), np.empty(rows.shape[0])
+    stages = 4 if rk4 else 1
+    times = (0, 1, 1, 2)
+    qs, vs = q.copy(), qd.copy()
+    acc = np.empty((4, n))
+    lam2 = -1.0
+    for k in range(stages):
+        if k == 1:
+            for j in range(n):
+                qs[j], vs[j] = q[j] + 0.5 * h * qd[j], qd[j] + 0.5 * h * acc[0, j]
+        elif k == 2:
+            for j in range(n):
+                qs[j], vs[j] = q[j] + 0.5 * h * (qd[j] + 0.5 * h * acc[0, j]), qd[j] + 0.5 * h * acc[1, j]
+        elif k == 3:
+            for j in range(n):
+                qs[j], vs[j] = q[j] + h * (qd[j] + 0.5 * h * acc[1, j]), qd[j] + h * acc[2, j]
+        i = times[k]
+        for j in range(n):
+            qdd0[j] = (POST[i, 2, j] + kp * (POST[i, 0, j] - qs[j]) + kd * (POST[i, 1, j] - vs[j])) if use_posture else 0.0
+        Q[0, :], QDs[0, :] = qs, vs
+        crba_batch(P, Q, MM)
+        lam2 = _law(K, modified, base, tool, rows, weights, qs, vs, TD[i], VD[i], AD[i], MM[0], qdd0, kp, kd,
+                    lam2, eps, acc[k], task, err)
+        if math.isnan(lam2):
+            return 1
+        if k == 0 or check:
+            rnea_batch(P, Q, QDs, ZERO, g0, FEXT, False, TAU)
+        for j in range(n):
+            effort = task[j] + TAU[0, j]
+            if not math.isfinite(effort) or not math.isfinite(acc[k, j]):
+                return 1
+            if check and abs(effort) > limit[j]:
+                return 2
+            if k == 0:
+                tau[j] = effort
+        if k == 0:
+            e[:] = err
+    for j in range(n):
+        a1[j] = acc[0, j]
+        if rk4:
+            v2 = qd[j] + 0.5 * h * acc[0, j]
+            v3 = qd[j] + 0.5 * h * acc[1, j]
+            v4 = qd[j] + h * acc[2, j]
+            q1[j] = q[j] + (h / 6.0) * (qd[j] + 2.0 * (v2 + v3) + v4)
+            qd1[j] = qd[j] + (h / 6.0) * (acc[0, j] + 2.0 * (acc[1, j] + acc[2, j]) + acc[3, j])
+        else:
+            qd1[j] = qd[j] + h * acc[0, j]
+            q1[j] = q[j] + h * qd1[j]
+    return 0
