@@ -112,6 +112,7 @@ def test_the_readout_shows_the_tracking_error_in_physical_modes_only() -> None:
     assert session.tracking_error() == pytest.approx((0.0, 0.0), abs=1e-12)
 
 
+@pytest.mark.slow  # about 20 s: the whole task, simulated at 1 kHz
 def test_the_pick_task_runs_under_osc() -> None:
     """humanoid7's default pick task under operational space (its null space tracks the
     plan's joints): the tool stays within 1 mm of the plan and the object lands within

@@ -9,7 +9,8 @@ factorisations.  M and the bias torque come from the compiled dynamics kernels
 (``dynamics_compiled``), called from here.
 
 Imported on first use only (numba takes about half a second to import), compiled once per
-machine (``cache=True``).  This module imports numpy, numba, the compiled dynamics kernels and the package numba settings only.
+machine (``cache=True``, the settings of ``robot_sim.jit``).  This module imports numpy, numba,
+the compiled dynamics kernels and the package numba settings only.
 """
 from __future__ import annotations
 
