@@ -12,7 +12,7 @@ SYSTEM_PKGS := libosmesa6 libgl1 xvfb xauth libxcb-icccm4 libxcb-image0 libxcb-k
 	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3 fonts-dejavu-core
 XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
-.PHONY: test test-full run bench setup system-deps clean
+.PHONY: test test-full run bench pictures setup system-deps clean
 
 # The default suite: every test but the slow parts of the robot and start sweeps.
 test: setup
@@ -24,11 +24,17 @@ test-full: setup
 	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -m "not window"
 	$(XVFB) $(PY) -m pytest -q -m window
 
+# `make run ARGS="--robot ur5 --demo pick"`: the window with those arguments.
 run: setup
-	$(PY) simulator.py
+	$(PY) simulator.py $(ARGS)
 
 bench: setup
 	PYOPENGL_PLATFORM=osmesa $(PY) benchmarks/bench.py
+
+# Re-render every picture of docs/ with the command written next to it in the docs.
+pictures: setup
+	PYOPENGL_PLATFORM=osmesa $(PY) docs/pictures.py
+	$(XVFB) $(PY) docs/window_picture.py docs/window.png
 
 setup: system-deps $(STAMP)
 

@@ -154,7 +154,7 @@ def test_a_failed_recording_leaves_no_video(tmp_path, monkeypatch):
     frames already written stay, each complete)."""
     written = []
 
-    def save_png(path, image):
+    def save_png(path, image, text=None):
         if written:
             raise OSError(28, "No space left on device")
         written.append(path)

@@ -164,11 +164,12 @@ def test_save_as_urdf_and_back_to_toml(app: Any, planar: Any, tmp_path: Path) ->
     np.testing.assert_array_equal(again.dh_alpha, planar.session.robot.dh_alpha)
 
 
-def test_open_loads_another_robot_at_home(app: Any, planar: Any) -> None:
+def test_open_loads_another_robot_at_home(app: Any, planar: Any, monkeypatch: Any) -> None:
+    monkeypatch.chdir(ROOT)  # the title names files inside the working folder relative to it
     assert planar.dh_dock.open_file(ROOT / "robots" / "puma560.toml")
     assert planar.session.robot.name == "PUMA 560"
     np.testing.assert_array_equal(planar.session.state.q(), planar.session.robot.q_home)
-    assert planar.windowTitle() == f"PUMA 560 — {ROOT / 'robots' / 'puma560.toml'} — robot-sim"
+    assert planar.windowTitle() == "PUMA 560 — robots/puma560.toml — robot-sim"  # relative to the working folder
     assert not planar.dh_dock.open_file(ROOT / "robots" / "nosuch.toml")
     assert planar.session.robot.name == "PUMA 560"
     assert "cannot open" in planar.message_label.text()

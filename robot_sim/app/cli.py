@@ -85,6 +85,13 @@ class Config:
     gains: dict[str, Any] = field(default_factory=dict)  # --bandwidth, --damping, --kp, --kd
     theme: str = go.DEFAULT_THEME  # --theme
     look: str | None = None  # --look (None: the robot's default look)
+    command: str = PROG  # the command line as given: pictures record it (picture_text)
+
+
+def picture_text(config: Config) -> dict[str, str]:
+    """What a picture says about itself (PNG text chunks): the program and the command
+    line that rendered it, as given (relative paths stay relative)."""
+    return {"Software": PROG, "Source": config.command}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -479,7 +486,8 @@ def write_recording(config: Config) -> tuple[list[Path], Path | None]:
     if config.demo == "circle":
         session.toggle_demo()
     try:
-        return recording.record(session, config.record, config.duration, config.fps, config.size)
+        return recording.record(session, config.record, config.duration, config.fps, config.size,
+                                picture_text(config))
     except RuntimeError as exc:
         raise CliError(f"offscreen rendering failed: {exc}") from None
     except OSError as exc:
@@ -500,7 +508,7 @@ def write_screenshot(config: Config) -> None:
     except RuntimeError as exc:
         raise CliError(f"offscreen rendering failed: {exc}") from None
     try:
-        go.save_png(config.screenshot, image)
+        go.save_png(config.screenshot, image, picture_text(config))
     except fileio.FileWriteError as exc:
         raise CliError(f"--screenshot: {exc}") from None
 

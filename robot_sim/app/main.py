@@ -7,6 +7,7 @@ Bad input is reported as one ``robot-sim: error: ...`` line with exit status 2;
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 from typing import Sequence
 
@@ -54,6 +55,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(robots_table())
             return 0
         config = config_from_args(args)
+        config.command = shlex.join([PROG, *argv])
         if robot_actions(args, config.robot) and config.screenshot is None:
             return 0
         if config.pick_report is not None:

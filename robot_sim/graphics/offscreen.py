@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import struct
 import zlib
+from typing import Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -83,8 +84,9 @@ class OffscreenRenderer:
 # ------------------------------------------------------------------------------- PNG
 
 
-def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
-    """Write ``image`` (H, W, 3) RGB or (H, W, 4) RGBA uint8, row 0 at the top, as a PNG.
+def save_png(path: str | os.PathLike[str], image: ArrayLike, text: Mapping[str, str] | None = None) -> None:
+    """Write ``image`` (H, W, 3) RGB or (H, W, 4) RGBA uint8, row 0 at the top, as a PNG,
+    with ``text`` (keyword -> UTF-8 text, e.g. the command that rendered it) as iTXt chunks.
 
     The file is written atomically (robot_sim.io.files.write_atomic): complete or not at all.  Raises
     ValueError for another shape or dtype and robot_sim.io.files.FileWriteError (an OSError) naming
@@ -101,6 +103,9 @@ def save_png(path: str | os.PathLike[str], image: ArrayLike) -> None:
 
     color_type = 6 if channels == 4 else 2
     header = struct.pack(">IIBBBBB", width, height, 8, color_type, 0, 0, 0)
-    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+    for keyword, value in (text or {}).items():  # keyword, no compression, no language, no translation
+        png += chunk(b"iTXt", keyword.encode("latin-1")[:79] + b"\0\0\0\0\0" + value.encode("utf-8"))
+    png += chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
     png += chunk(b"IEND", b"")
     write_atomic(path, png)

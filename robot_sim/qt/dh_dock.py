@@ -36,6 +36,15 @@ _CONVENTION_TEXT = {
 _FILE_FILTER = "Robot files (*.toml *.urdf);;TOML (*.toml);;URDF (*.urdf);;All files (*)"
 
 
+def shown_path(path: Path) -> str:
+    """``path`` as the window writes it: relative to the working directory when it lies
+    inside it (``robots/puma560.toml``), else as it is."""
+    try:
+        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
+    except (ValueError, OSError):
+        return str(path)
+
+
 class DHTableDock(QtWidgets.QDockWidget):
     """Dock with the DH table of the shown robot and its file actions.
 
@@ -172,7 +181,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         self.path, self.text = path, text
         if path is not None:
             self.watcher.addPath(str(path))
-        self.file_label.setText(str(path) if path is not None else "(not saved)")
+        self.file_label.setText(shown_path(path) if path is not None else "(not saved)")
         self.file_label.setToolTip(self.file_label.text())
         self.file_changed.emit(path)
 

@@ -31,7 +31,7 @@ from robot_sim.qt import settings as qs
 from robot_sim import graphics as go
 from robot_sim.qt.guard import guarded, install_excepthook
 from robot_sim.qt.pick_panel import PickPanel, PlotDock
-from robot_sim.qt.dh_dock import DHTableDock
+from robot_sim.qt.dh_dock import DHTableDock, shown_path
 from robot_sim.qt.joints import JointPanel
 from robot_sim.qt.motion_panel import MotionPanel
 from robot_sim.qt.overlays import HelpOverlay, ViewInfo, ViewInfoOverlay
@@ -373,7 +373,7 @@ class MainWindow(QtWidgets.QMainWindow):
     def update_title(self) -> None:
         """``robot — file [edited] — robot-sim``."""
         path = self.dh_dock.path
-        where = str(path) if path is not None else "not saved"
+        where = shown_path(path) if path is not None else "not saved"
         mark = " (edited)" if self.edited else ""
         self.setWindowTitle(f"{self.session.robot.name} — {where}{mark} — {APP_NAME}")
 
@@ -908,7 +908,10 @@ class MainWindow(QtWidgets.QMainWindow):
             return
         buffer = QtCore.QBuffer()
         buffer.open(QtCore.QIODevice.WriteOnly)
-        self.view.grab().save(buffer, "PNG")  # the GL picture with its corner information
+        picture = self.view.grab().toImage()  # the GL picture with its corner information
+        picture.setText("Software", APP_NAME)
+        picture.setText("Source", f"{APP_NAME} window: {self.windowTitle()}")  # what it shows, as it shows it
+        picture.save(buffer, "PNG")
         try:
             write_atomic(path, bytes(buffer.data()))
         except FileWriteError as exc:

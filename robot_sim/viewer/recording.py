@@ -62,12 +62,14 @@ def frame_times(duration: float, fps: float) -> list[float]:
 
 
 def record(
-    session, out_dir: Path, duration: float, fps: float, size: tuple[int, int]
+    session, out_dir: Path, duration: float, fps: float, size: tuple[int, int],
+    text: dict[str, str] | None = None,
 ) -> tuple[list[Path], Path | None]:
     """Render ``session`` (a robot_sim.viewer.session.ViewerSession) at each of :func:`frame_times` into
     ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
     imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
-    paths and the video's (None without the extra).  Higher-numbered frames an earlier,
+    paths and the video's (None without the extra).  ``text``: each frame's PNG text
+    chunks (what rendered it).  Higher-numbered frames an earlier,
     longer recording left in ``out_dir`` are removed once this one is complete.
 
     A pick demo is shown at its start time plus each frame time (scrubbed, exact); anything
@@ -87,7 +89,7 @@ def record(
                     session.step(1.0 / fps)
                 image = renderer.render(session.camera, session.scene(), session.options)
                 path = out_dir / vs.RECORD_FRAME_FORMAT.format(index=index)
-                go.save_png(path, image)
+                go.save_png(path, image, text)
                 paths.append(path)
                 if video is not None:
                     video.add(image)

@@ -1,0 +1,139 @@
+"""The documentation's commands run as written (the convention is in docs/documentation.md).
+
+Every ``sh runnable`` block of README.md and docs/*.md runs in a fresh temporary directory
+laid out as a checkout after ``make`` (``.venv`` is this test's environment, ``docs/`` an
+empty folder, the checkout's modules first on the path), headless; every ``python`` block
+runs as a program there.  Commands that open the window are never marked runnable; theirs
+and every other documented ``robot-sim`` command's options are parsed by the program's own
+parser, and a shipped robot they name must exist.  Failures name the page, the line and the
+command.
+"""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from doc_blocks import ROOT, Block, Command, all_commands, blocks
+
+RUNNABLE = blocks("sh", runnable=True)
+PYTHON = blocks("python")
+TIMEOUT = 600  # s: a hung command fails instead of stalling the suite
+
+
+def params(found: list[Block]) -> list:
+    """Blocks as pytest parameters, the ``slow`` ones marked so."""
+    return [pytest.param(b, id=b.name, marks=[pytest.mark.slow] if b.slow else []) for b in found]
+
+
+def environment() -> dict[str, str]:
+    """This checkout's modules first, headless rendering, no display."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYOPENGL_PLATFORM="osmesa", OPENBLAS_NUM_THREADS="1")
+    for key in ("DISPLAY", "WAYLAND_DISPLAY"):
+        env.pop(key, None)
+    return env
+
+
+def workdir(tmp: Path) -> Path:
+    """A temporary directory that looks to the commands like a checkout after ``make``."""
+    (tmp / ".venv").symlink_to(sys.prefix, target_is_directory=True)
+    (tmp / "docs").mkdir()
+    return tmp
+
+
+def failure(command: Command, result: subprocess.CompletedProcess[str]) -> str:
+    return (f"{command.where}: `{command.text}` exited {result.returncode}\n"
+            f"stdout: {result.stdout[-1500:]}\nstderr: {result.stderr[-2500:]}")
+
+
+def check_outputs(command: Command, cwd: Path) -> None:
+    """What a command says it writes is there, complete."""
+    words = command.words
+    for option in ("--screenshot", "--export-urdf", "--export-toml", "--out"):
+        if option in words:
+            target = cwd / words[words.index(option) + 1]
+            assert target.is_file() and target.stat().st_size > 0, f"{command.where}: `{command.text}` wrote no {target.name}"
+            if option == "--screenshot":
+                assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", f"{command.where}: {target.name} is no PNG"
+    if "--record" in words:
+        frames = sorted((cwd / words[words.index("--record") + 1]).glob("frame_*.png"))
+        assert frames, f"{command.where}: `{command.text}` recorded no frames"
+
+
+def test_the_pages_hold_runnable_blocks_and_python_blocks() -> None:
+    pages = {b.page.name for b in RUNNABLE} | {b.page.name for b in PYTHON}
+    assert "README.md" in pages and len(pages) >= 4, pages
+
+
+def test_no_runnable_command_opens_the_window() -> None:
+    for block in RUNNABLE:
+        for command in block.commands():
+            assert not command.opens_window(), (
+                f"{command.where}: `{command.text}` opens the window: show it in a plain ```sh block instead")
+
+
+@pytest.mark.parametrize("block", params(RUNNABLE))
+def test_runnable_commands_run_as_written(block: Block, tmp_path: Path) -> None:
+    cwd, env = workdir(tmp_path), environment()
+    commands = block.commands()
+    assert commands, f"{block.name}: an empty runnable block"
+    for command in commands:
+        result = subprocess.run(["bash", "-c", command.text], cwd=cwd, env=env, capture_output=True,
+                                text=True, timeout=TIMEOUT)
+        assert result.returncode == 0, failure(command, result)
+        assert "Traceback" not in result.stderr and "error:" not in result.stderr, failure(command, result)
+        check_outputs(command, cwd)
+
+
+@pytest.mark.parametrize("block", params(PYTHON))
+def test_python_blocks_run(block: Block, tmp_path: Path) -> None:
+    program = workdir(tmp_path) / "example.py"
+    program.write_text(block.text, encoding="utf-8")
+    result = subprocess.run([sys.executable, str(program)], cwd=tmp_path, env=environment(),
+                            capture_output=True, text=True, timeout=TIMEOUT)
+    assert result.returncode == 0, f"{block.name}: the python block failed\n{result.stderr[-3000:]}"
+
+
+def parse_robot_sim(args: list[str]) -> None:
+    """Parse ``robot-sim`` arguments as the program does, without running anything; a shipped
+    robot name must exist.  Raises the program's own error for anything it would refuse."""
+    from robot_sim.io.robot_file import available_robots
+
+    if args[:1] == ["sweep"]:
+        from robot_sim.app import sweep_cmd
+
+        parsed = sweep_cmd.build_parser().parse_args(args[1:])
+    else:
+        from robot_sim.app import cli
+
+        parsed = cli.build_parser().parse_args(cli.attach_negative_values(args))
+    robot = parsed.robot or ""
+    if robot and "/" not in robot and "." not in robot:
+        assert robot in available_robots(), f"no shipped robot {robot!r}"
+
+
+def test_every_documented_robot_sim_command_parses() -> None:
+    commands = [c for c in all_commands() if c.robot_sim_args() is not None]
+    assert len(commands) > 30, "the parser found the documented commands"
+    problems = []
+    for command in commands:
+        try:
+            parse_robot_sim(command.robot_sim_args())
+        except (Exception, SystemExit) as exc:  # the parsers' errors, or an unknown robot
+            problems.append(f"{command.where}: `{command.text}`: {type(exc).__name__}: {exc}")
+    assert not problems, "\n".join(problems)
+
+
+def test_no_documented_command_uses_an_absolute_path() -> None:
+    """Pictures record their command, and a docs page is read on other machines."""
+    for command in all_commands():
+        args = command.robot_sim_args()
+        if args is None:
+            continue
+        for word in args:
+            value = word.split("=", 1)[-1]
+            assert not value.startswith(("/", "~")) and str(ROOT.parent) not in value, (
+                f"{command.where}: `{command.text}` uses the absolute path {value}")
