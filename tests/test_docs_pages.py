@@ -68,7 +68,9 @@ def test_the_window_page_lists_every_key_binding() -> None:
 
     page = (ROOT / "docs" / "window.md").read_text(encoding="utf-8")
     rows = re.findall(r"^\| `([^`]+)` \| (.+) \|$", page, re.M)
-    assert rows == help_rows()
+    assert rows == help_rows(), (
+        "docs/window.md's key table is not the window's help (robot_sim.qt.overlays.help_rows): "
+        f"missing {[r for r in help_rows() if r not in rows]}, extra {[r for r in rows if r not in help_rows()]}")
 
 
 def test_make_run_passes_its_arguments() -> None:
