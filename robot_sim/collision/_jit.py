@@ -8,6 +8,8 @@ numba checks a cached function against its own file only, not against the files 
 functions it calls (which it compiled in): a kernel edited in ``closest.py`` would stay
 stale inside ``batch.py``'s cache.  So the cache of all kernel modules is dropped
 whenever any of their sources changes (a digest of them is kept next to the cache).
+A shared ``NUMBA_CACHE_DIR`` holds one folder per source directory; only this checkout's
+folder is stamped and dropped, so two checkouts never wipe each other's machine code.
 """
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from pathlib import Path
 
 import numba
 from numba import njit
+from numba.core.caching import UserProvidedCacheLocator
 
 from robot_sim.jit import JIT
 
@@ -25,10 +28,12 @@ KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels")
 
 
 def _cache_dirs() -> list[Path]:
+    """Where numba may keep this package's kernels: beside them, and its folder in CACHE_DIR."""
     dirs = [HERE / "__pycache__"]
     if numba.config.CACHE_DIR:
-        dirs.append(Path(numba.config.CACHE_DIR))
-    return [d for d in dirs if d.is_dir()]
+        folder = UserProvidedCacheLocator.get_suitable_cache_subpath(str(HERE / "batch.py"))
+        dirs.append(Path(numba.config.CACHE_DIR) / folder)
+    return dirs
 
 
 def drop_stale_cache() -> None:
@@ -42,10 +47,11 @@ def drop_stale_cache() -> None:
     for cache in _cache_dirs():
         stamp = cache / "collision-kernels.sha256"
         try:
+            cache.mkdir(parents=True, exist_ok=True)  # stamped before numba's first save
             if stamp.exists() and stamp.read_text() == stamp_text:
                 continue
             for name in KERNEL_MODULES:
-                for old in cache.rglob(f"{name}.*.nb[ic]"):
+                for old in cache.glob(f"{name}.*.nb[ic]"):
                     old.unlink(missing_ok=True)
             stamp.write_text(stamp_text)
         except OSError:  # a read-only or vanishing cache: numba recompiles as needed
