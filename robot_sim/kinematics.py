@@ -998,7 +998,9 @@ def solve_ik(
     message of a failure says how many such minima it met.
 
     Success means ``pos_err <= tol_pos`` and, unless position only, ``rot_err <= tol_rot``
-    (and, with a checker, no collision).  A failure is a result with ``success=False``
+    (and, with a checker, no collision).  A target farther from the base than
+    :attr:`RobotParams.reach` is answered by the first descent alone, with the message
+    saying so (restarts cannot reach it).  A failure is a result with ``success=False``
     holding the best in-limit configuration found.  Raises ValueError for a target that is not a rigid transform, a wrong-length
     or non-finite ``q0``, or non-positive tolerances.
     """
@@ -1025,6 +1027,10 @@ def solve_ik(
         lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
     problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
     rng = np.random.default_rng(seed)
+    distance = float(np.linalg.norm(tmat[:3, 3] - robot.base_tf.mat[:3, 3]))
+    if respect_limits and distance > robot.reach + tol_pos:  # no configuration gets there: one descent toward it
+        message += f"target is {distance:.3g} m from the base, beyond the arm's reach of {robot.reach:.3g} m; "
+        max_restarts = 0
 
     # From here on nothing raises: overflow on absurd robots gives inf/NaN errors that no
     # step accepts, and any arithmetic failure ends the search with the best pose so far.
@@ -1069,7 +1075,8 @@ def solve_ik(
         message += f"converged in {iterations} iterations ({restarts} restarts)"
     else:
         message += failure or f"did not converge in {iterations} iterations ({restarts} restarts): "
-        message += f"position error {best.pos_err:.3g} m, rotation error {best.rot_err:.3g} rad"
+        message += f"position error {best.pos_err:.3g} m"
+        message += "" if position_only else f", rotation error {best.rot_err:.3g} rad"
         if colliding:
             message += f"; {colliding} converged configuration{'s were' if colliding > 1 else ' was'} in collision"
     return IKResult(

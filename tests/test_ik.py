@@ -7,7 +7,7 @@ import pytest
 from kin_helpers import CONVENTIONS, robot as shipped
 from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik
 from robot_sim.model.params import RobotParams
-from robot_sim.io.robot_file import load_robot
+from robot_sim.io.robot_file import available_robots, load_robot
 from robot_sim.transforms import HomogeneousTransform, rot_z
 
 N_TARGETS = 200
@@ -85,6 +85,44 @@ def test_unreachable_target_is_a_failed_result_not_an_exception() -> None:
     assert np.all(res.q >= robot.q_min) and np.all(res.q <= robot.q_max)
     assert res.pos_err > 3.0
     assert "did not converge" in res.message
+
+
+@pytest.mark.parametrize("convention", CONVENTIONS)
+def test_reach_bounds_every_configuration_and_is_tight_for_a_planar_arm(convention: str) -> None:
+    for name in available_robots():
+        robot = shipped(name, convention)
+        Q = random_configurations(robot, 4000, np.random.default_rng(1))
+        tool = forward_kinematics(robot, Q)[:, :3, 3]
+        farthest = np.linalg.norm(tool - robot.base_tf.mat[:3, 3], axis=1).max()
+        assert farthest <= robot.reach + 1e-12, name
+    planar = shipped("planar3", convention)  # stretched out, the bound is reached
+    stretched = np.linalg.norm(forward_kinematics(planar, np.zeros(3))[:3, 3] - planar.base_tf.mat[:3, 3])
+    assert stretched == pytest.approx(planar.reach, abs=1e-12)
+
+
+def test_a_target_beyond_reach_is_answered_by_one_descent_and_says_why() -> None:
+    # Restarts cannot help: the window answered each key press out of reach after
+    # 1000 iterations and 15-35 restarts (0.6-0.9 s).
+    robot = load_robot("ur5")
+    tool = forward_kinematics(robot, robot.q_home)
+    far = tool.copy()
+    far[2, 3] += robot.reach
+    res = solve_ik(robot, far)
+    assert not res.success and res.restarts == 0 and res.iterations <= 40
+    distance = np.linalg.norm(far[:3, 3] - robot.base_tf.mat[:3, 3])
+    assert res.message.startswith(
+        f"target is {distance:.3g} m from the base, beyond the arm's reach of {robot.reach:.3g} m; did not converge"
+    ), res.message
+    near = tool.copy()  # inside the bound the full search runs as before
+    near[2, 3] += 0.01
+    assert solve_ik(robot, near).success
+
+
+def test_a_position_only_failure_quotes_no_rotation_error() -> None:
+    robot = load_robot("planar3")
+    res = solve_ik(robot, HomogeneousTransform.from_rt(np.eye(3), [5.0, 0.0, 0.0]))
+    assert not res.success and res.position_only
+    assert res.message.endswith(f"position error {res.pos_err:.3g} m"), res.message
 
 
 def test_respect_limits_false_may_leave_the_limits() -> None:

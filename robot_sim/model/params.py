@@ -143,6 +143,19 @@ class RobotParams:
         d = np.where(prismatic, reach_d, np.abs(self.dh_d))
         return float(np.abs(self.dh_a).sum() + d.sum() + np.linalg.norm(self.tool_tf.mat[:3, 3]))
 
+    @functools.cached_property
+    def reach(self) -> float:
+        """An upper bound [m] on the distance from frame 0's origin (the base) to the tool
+        point over every configuration within the joint limits: each joint moves the next
+        frame's origin by a along one axis and d along a perpendicular one, so by at most
+        √(a² + d²), with a prismatic joint's d at the end of its stroke; plus the tool
+        offset.  Infinite when a prismatic joint is unlimited.  Computed once per robot."""
+        prismatic = self.jtype == JTYPE_PRISMATIC
+        with np.errstate(invalid="ignore"):
+            stroke = np.maximum(np.abs(self.dh_d + self.q_max), np.abs(self.dh_d + self.q_min))
+        d = np.where(prismatic, stroke, np.abs(self.dh_d))
+        return float(np.hypot(self.dh_a, d).sum() + np.linalg.norm(self.tool_tf.mat[:3, 3]))
+
     @property
     def is_modified(self) -> bool:
         """True for a modified (Craig) DH table: joint i turns about z of frame i."""
