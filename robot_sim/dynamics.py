@@ -261,6 +261,7 @@ class _DynModel:
         self.table: FloatArray | None = None  # parameter table of the compiled kernels
         self.zero = np.zeros(n)  # zero rates for the compiled kernels (read only by them)
         self.base_rotation = robot.base_tf.R().copy()
+        self.q_min, self.q_max = robot.q_min.copy(), robot.q_max.copy()
         self._gravity: tuple = ((0.0, 0.0, -9.81), None)  # last (world gravity, in frame 0)
         self._gravity_array: tuple = (None, None)  # last frame-0 gravity tuple and it as an array
 
@@ -283,6 +284,7 @@ class _DynModel:
             modified=self.modified, revolute=self.revolute, theta=self.th, d=self.d, a=self.a,
             cos_alpha=self.ca, sin_alpha=self.sa, mass=self.mass, first_moment=self.h, inertia=self.inertia_o,
             reflected=self.reflected, viscous=self.viscous, coulomb_pos=self.coulomb_pos, coulomb_neg=self.coulomb_neg,
+            q_min=self.q_min, q_max=self.q_max,
         )
         return kernels, self.table
 
@@ -1014,7 +1016,7 @@ def energy(
 # ------------------------------------------------------------------ one time step
 
 #: Status per arm of :meth:`Stepper.step` (see there).
-STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL, STEP_CROSSED, STEP_AT_STOP = 0, 1, 2, 3, 4
+STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL, STEP_CROSSED, STEP_AT_STOP, STEP_BAD_EFFORT = 0, 1, 2, 3, 4, 5
 INTEGRATORS = ("rk4", "euler")
 
 
@@ -1022,9 +1024,11 @@ class StepResult(NamedTuple):
     """Outcome of :meth:`Stepper.step` for N arms: the state after the step ``q``, ``qd``
     (N, n), the acceleration at its start ``qdd`` (N, n), ``status`` (N,) per arm (see
     :meth:`Stepper.step`), the stops' reaction torque at the start ``reaction`` (N, n)
-    [N·m or N] (zero on joints not held; written when joints may be held) and ``at_limit``
-    (N, n), the joints exactly on a limit after the step (written with ``stops``).  Rows
-    of arms that were not stepped, or that failed, hold no meaningful values."""
+    [N·m or N] (zero on joints not held; written when joints may be held), ``at_limit``
+    (N, n), the joints exactly on a limit after the step (written with ``stops``), and
+    the controller's ``command`` and the ``effort`` held over the step (N, n) [N·m or N]
+    (written by :meth:`Stepper.step_computed_torque`).  Rows of arms that were not
+    stepped, or that failed, hold no meaningful values."""
 
     q: FloatArray
     qd: FloatArray
@@ -1032,6 +1036,8 @@ class StepResult(NamedTuple):
     status: NDArray[np.int8]
     reaction: FloatArray
     at_limit: NDArray[np.bool_]
+    command: FloatArray
+    effort: FloatArray
 
 
 class Stepper:
@@ -1054,11 +1060,11 @@ class Stepper:
         self._model = _model(robot)
         self._g0 = self._model.gravity_array(robot, gravity).copy()
         self._gravity = gravity
-        self._lo, self._hi = (np.ascontiguousarray(x, dtype=float) for x in (robot.q_min, robot.q_max))
         self._result = StepResult(
             *(np.empty(self.shape) for _ in range(3)), np.zeros(self.shape[0], dtype=np.int8),
-            np.zeros(self.shape), np.zeros(self.shape, dtype=bool),
+            np.zeros(self.shape), np.zeros(self.shape, dtype=bool), np.zeros(self.shape), np.zeros(self.shape),
         )
+        self._kp, self._kd = np.zeros(self.shape[0]), np.zeros(self.shape[0])
         self._all = np.ones(self.shape[0], dtype=bool)
         self._none = np.zeros(self.shape[0], dtype=bool)
         self._no_held = np.zeros(self.shape, dtype=bool)
@@ -1096,9 +1102,8 @@ class Stepper:
         :data:`STEP_BAD_STATE` / :data:`STEP_BAD_ACCEL`: a stage state / an acceleration
         was not finite or M not positive definite.  The reference backend resolves no
         stop itself: every arm starting on a stop is :data:`STEP_AT_STOP`."""
-        for name, x in (("q", q), ("qd", qd), ("tau", tau)):
-            if x.shape != self.shape:
-                raise ValueError(f"{name} must have shape {self.shape}, got shape {x.shape}")
+        if not (q.shape == qd.shape == tau.shape == self.shape):
+            self._check_shapes(q=q, qd=qd, tau=tau)  # raises
         A1 = q if qdd_start is None else qdd_start
         known = self._none if known is None or qdd_start is None else known
         active = self._all if active is None else active
@@ -1108,12 +1113,68 @@ class Stepper:
             kernels, table = self._model.compiled()
             kernels.step_batch(
                 table, self.method == "rk4", h, q, qd, tau, A1, known, self._g0, active,
-                self._no_held if held is None else held, held is not None, stops, self._lo, self._hi,
-                out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
+                self._no_held if held is None else held, held is not None, stops, out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
             )
         else:
             _reference_step(self.robot, q, qd, tau, h, self.method, A1, known, active, held, stops, self._gravity, out)
         return out
+
+
+    def step_computed_torque(
+        self,
+        q: FloatArray,
+        qd: FloatArray,
+        q_des: FloatArray,
+        qd_des: FloatArray,
+        qdd_des: FloatArray,
+        kp: float | FloatArray,
+        kd: float | FloatArray,
+        effort_limit: FloatArray,
+        active: NDArray[np.bool_] | None = None,
+        *,
+        stops: bool = False,
+    ) -> StepResult:
+        """Computed torque and one step in one call, per arm: the ``command``
+        τ = ID(q, q̇, q̈_ref) at q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇)
+        (:func:`computed_torque`), the ``effort`` the command clipped to ±``effort_limit``
+        (n,) [N·m or N], and :meth:`step` with that effort (from q̈_ref where nothing
+        saturated; ``stops`` as there).  Joint arrays float64 (N, n); ``kp`` [1/s²], ``kd``
+        [1/s] numbers or (N,) per arm.  The same bits as computed_torque, the clip and
+        :meth:`step` called in turn; an arm whose command is not finite (its sum of
+        squares) is :data:`STEP_BAD_EFFORT` and not stepped."""
+        if not (q.shape == qd.shape == q_des.shape == qd_des.shape == qdd_des.shape == self.shape):
+            self._check_shapes(q=q, qd=qd, q_des=q_des, qd_des=qd_des, qdd_des=qdd_des)  # raises
+        active = self._all if active is None else active
+        for gains, value in ((self._kp, kp), (self._kd, kd)):
+            if isinstance(value, float):
+                gains.fill(value)
+            else:
+                gains[:] = value
+        out = self._result
+        if _backend == "compiled":
+            kernels, table = self._model.compiled()
+            kernels.ct_step_batch(
+                table, self.method == "rk4", self.dt, q, qd, q_des, qd_des, qdd_des, self._kp, self._kd,
+                np.asarray(effort_limit, dtype=float), self._g0, active, stops, out.command, out.effort, out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
+            )
+            return out
+        command, qdd_ref = computed_torque(
+            self.robot, q, qd, q_des, qd_des, qdd_des, self._kp[:, None], self._kd[:, None], self._gravity
+        )
+        out.command[:] = command
+        finite = np.isfinite(np.einsum("ij,ij->i", command, command))
+        out.status[active & ~finite] = STEP_BAD_EFFORT
+        saturated = (np.abs(command) > effort_limit).any(axis=1)
+        out.effort[:] = np.clip(command, -effort_limit, effort_limit)
+        _reference_step(self.robot, q, qd, out.effort, self.dt, self.method, qdd_ref, ~saturated, active & finite, None,
+                        stops, self._gravity, out)
+        return out
+
+    def _check_shapes(self, **arrays: FloatArray) -> None:
+        """ValueError naming the first array whose shape is not (N, n)."""
+        for name, x in arrays.items():
+            if x.shape != self.shape:
+                raise ValueError(f"{name} must have shape {self.shape}, got shape {x.shape}")
 
 
 def _reference_step(

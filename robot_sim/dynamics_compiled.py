@@ -30,13 +30,15 @@ REV, TH, D, A, CA, SA, MASS, HX, HY, HZ = range(10)
 IXX, IYY, IZZ, IXY, IYZ, IXZ, REFL, VISC, CPOS, CNEG = range(10, 20)
 SVX, SVY, SVZ, SWX, SWY, SWZ = range(20, 26)  # joint motion [v; ω] per unit rate, frame j
 MOD = 26  # 1.0 in every row for modified DH (Craig), 0.0 for standard DH
-NCOL = 27
+QLO, QHI = 27, 28  # the joint's limits [rad or m] (±inf: none)
+NCOL = 29
 
 #: Status codes of :func:`step_batch` per configuration: stepped; a stage state or an
 #: acceleration not finite; (with ``stops``) stepped from a start on no stop but beyond a
 #: limit at the end; (with ``stops``) not stepped, its start on a stop needs what the
-#: kernel does not do (an impact, a one-point range, a release, or an arrival while held).
-OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP = 0, 1, 2, 3, 4
+#: kernel does not do (an impact, a one-point range, a release, or an arrival while held);
+#: (:func:`ct_step_batch`) the command was not finite.
+OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP, BAD_EFFORT = 0, 1, 2, 3, 4, 5
 _NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
 _INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
@@ -44,13 +46,14 @@ _INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
 
 def parameter_table(
     *, modified, revolute, theta, d, a, cos_alpha, sin_alpha, mass, first_moment, inertia, reflected, viscous,
-    coulomb_pos, coulomb_neg,
+    coulomb_pos, coulomb_neg, q_min, q_max,
 ) -> np.ndarray:
     """The table P (n, NCOL) of per-joint constants: joint type, DH θ offset, d, a [m],
     cos α, sin α; link mass [kg], first moment m·c [kg·m] and inertia about the frame
     origin (xx, yy, zz, xy, yz, xz) [kg·m²] in the link's frame; drive terms G²Jm
     [kg·m²], G²B [N·m·s/rad] and |G|·Tc± [N·m]; the joint's motion subspace [v of the
-    frame origin; ω] per unit rate in frame j; the convention (:data:`MOD`)."""
+    frame origin; ω] per unit rate in frame j; the convention (:data:`MOD`); the joint
+    limits [rad or m]."""
     n = len(revolute)
     P = np.zeros((n, NCOL))
     P[:, REV] = np.asarray(revolute, dtype=float)
@@ -63,6 +66,7 @@ def parameter_table(
     for j in range(n):
         P[j, SVX : SWZ + 1] = _subspace(P, bool(modified), j)
     P[:, MOD] = 1.0 if modified else 0.0
+    P[:, QLO], P[:, QHI] = q_min, q_max
     return P
 
 
@@ -555,9 +559,88 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     return finite
 
 
+@njit(**_INLINE)
+def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_held, stops, q1, qd1, qdd1, reaction, at,
+              work):
+    """One step of :func:`step_batch` for one configuration (its rules there); the status.
+    ``use_start``: ``a_start`` is the start acceleration, if finite and nothing is held or
+    on a stop; ``held`` (n,) the joints named held when ``use_held`` (overwritten with
+    ``stops``); ``work`` the kernels' work arrays."""
+    O, CS, F, NM, zero, bias, M, fext, a1, a2, a3, a4, qs, vs, react = work
+    n = P.shape[0]
+    half, sixth = 0.5 * h, h / 6.0
+    any_held, on_stop = False, False
+    if stops:
+        for j in range(n):
+            on_lo, on_hi = q[j] == P[j, QLO], q[j] == P[j, QHI]
+            held[j] = False
+            if on_lo or on_hi:
+                on_stop = True
+                if (on_lo and on_hi) or (v[j] < 0.0 if on_lo else v[j] > 0.0):
+                    return AT_STOP
+                if v[j] == 0.0:
+                    held[j] = any_held = True
+    elif use_held:
+        for j in range(n):
+            any_held = any_held or held[j]
+    if use_start and not (any_held or on_stop) and _finite(a_start):
+        a1[:] = a_start
+    else:
+        _fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
+        if not _finite(a1):
+            return BAD_ACCEL
+    if any_held:
+        for j in range(n):
+            if stops and held[j] and (react[j] < 0.0 if q[j] == P[j, QLO] else react[j] > 0.0):
+                return AT_STOP  # this stop would pull: the joint may leave
+            reaction[j] = react[j] if held[j] else 0.0
+    elif stops or use_held:
+        reaction[:] = 0.0
+    qdd1[:] = a1
+    if not rk4:
+        for j in range(n):
+            qd1[j] = v[j] + h * a1[j]
+            q1[j] = q[j] + h * qd1[j]
+    else:
+        for stage in range(3):  # stages 2, 3, 4 of RK4
+            prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
+            out = a2 if stage == 0 else (a3 if stage == 1 else a4)
+            step = h if stage == 2 else half
+            for j in range(n):
+                # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
+                pv = v[j] if stage == 0 else vs[j]
+                vs_new = v[j] + step * prev[j]
+                qs[j] = q[j] + step * pv
+                vs[j] = vs_new
+            if not (_finite(qs) and _finite(vs)):
+                return BAD_STATE
+            _fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
+            if not _finite(out):
+                return BAD_ACCEL
+        for j in range(n):
+            v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
+            q1[j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
+            qd1[j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
+    status = OK
+    if stops:
+        for j in range(n):
+            x, lo, hi = q1[j], P[j, QLO], P[j, QHI]
+            at[j] = x == lo or x == hi
+            if x < lo or x > hi:
+                status = AT_STOP if any_held else CROSSED
+    return status
+
+
+@njit(**_INLINE)
+def _work(n):
+    """The work arrays of :func:`_step_one` for n joints."""
+    return (np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n),
+            np.empty((n, n)), np.zeros(6), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
+            np.empty(n), np.empty(n))
+
+
 @njit(**JIT)
-def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, stops, LO, HI, Q1, QD1, QDD1, REACT, AT,
-               STATUS):
+def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, stops, Q1, QD1, QDD1, REACT, AT, STATUS):
     """One step of length h [s] per configuration i with ``active[i]``, effort TAU[i] held:
     classical RK4 (``rk4``) or semi-implicit Euler.  ``known[i]``: A1[i] is the
     acceleration at the start (used when finite and no joint is held or on a stop).
@@ -565,7 +648,7 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     (:data:`OK` … :data:`AT_STOP`) into STATUS.
 
     Held joints (q̈ = 0 in every stage, see :func:`_fd_one`): with ``use_held``, those of
-    HELD[i]; with ``stops`` (joint limits LO, HI (n,)), those resting on a stop: exactly on
+    HELD[i]; with ``stops`` (the joint limits of P), those resting on a stop: exactly on
     it at zero velocity, kept there only if every reaction pushes (λ_j ≥ 0 on a min stop,
     ≤ 0 on a max stop), else :data:`AT_STOP`.  A start with a joint on a stop moving into
     it, or on a one-point range, is :data:`AT_STOP` too.  Where a joint is held, REACT[i]
@@ -574,83 +657,49 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     (from a start holding no joint; else :data:`AT_STOP`)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
-    O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
-    zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
-    fext = np.zeros(6)
-    a1, a2, a3, a4 = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    qs, vs, react = np.empty(n), np.empty(n), np.empty(n)
+    work = _work(n)
     held = np.zeros(n, dtype=np.bool_)
-    half, sixth = 0.5 * h, h / 6.0
     for i in range(Q.shape[0]):
         if not active[i]:
             continue
-        q, v, tau = Q[i], QD[i], TAU[i]
-        STATUS[i] = OK
-        any_held, on_stop = False, False
-        if stops:
-            for j in range(n):
-                on_lo, on_hi = q[j] == LO[j], q[j] == HI[j]
-                held[j] = False
-                if on_lo or on_hi:
-                    on_stop = True
-                    if (on_lo and on_hi) or (v[j] < 0.0 if on_lo else v[j] > 0.0):
-                        STATUS[i] = AT_STOP
-                    elif v[j] == 0.0:
-                        held[j] = any_held = True
-            if STATUS[i] == AT_STOP:
-                continue
-        elif use_held:
-            for j in range(n):
-                held[j] = HELD[i, j]
-                any_held = any_held or held[j]
-        if known[i] and not (any_held or on_stop) and _finite(A1[i]):
-            a1[:] = A1[i]
-        else:
-            _fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
-            if not _finite(a1):
-                STATUS[i] = BAD_ACCEL
-                continue
-        if any_held:
-            for j in range(n):
-                if stops and held[j] and (react[j] < 0.0 if q[j] == LO[j] else react[j] > 0.0):
-                    STATUS[i] = AT_STOP  # this stop would pull: the joint may leave
-                REACT[i, j] = react[j] if held[j] else 0.0
-            if STATUS[i] == AT_STOP:
-                continue
-        elif stops or use_held:
-            REACT[i] = 0.0
-        QDD1[i] = a1
-        if not rk4:
-            for j in range(n):
-                QD1[i, j] = v[j] + h * a1[j]
-                Q1[i, j] = q[j] + h * QD1[i, j]
-        else:
-            for stage in range(3):  # stages 2, 3, 4 of RK4
-                prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
-                out = a2 if stage == 0 else (a3 if stage == 1 else a4)
-                step = h if stage == 2 else half
-                for j in range(n):
-                    # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
-                    pv = v[j] if stage == 0 else vs[j]
-                    vs_new = v[j] + step * prev[j]
-                    qs[j] = q[j] + step * pv
-                    vs[j] = vs_new
-                if not (_finite(qs) and _finite(vs)):
-                    STATUS[i] = BAD_STATE
-                    break
-                _fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
-                if not _finite(out):
-                    STATUS[i] = BAD_ACCEL
-                    break
-            if STATUS[i] != OK:
-                continue
-            for j in range(n):
-                v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
-                Q1[i, j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
-                QD1[i, j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
-        if stops:
-            for j in range(n):
-                x = Q1[i, j]
-                AT[i, j] = x == LO[j] or x == HI[j]
-                if x < LO[j] or x > HI[j]:
-                    STATUS[i] = AT_STOP if any_held else CROSSED
+        if use_held:
+            held[:] = HELD[i]
+        STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], TAU[i], A1[i], known[i], g0, held, use_held, stops,
+                              Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)
+
+
+@njit(**JIT)
+def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, active, stops, CMD, TAU, Q1, QD1, QDD1, REACT,
+                  AT, STATUS):
+    """Computed torque and one step, fused: per configuration i with ``active[i]``, the
+    command CMD[i] = ID(q, q̇, q̈_ref) of :func:`_ct_one` (gains KP[i], KD[i]), the effort
+    TAU[i] = CMD[i] clipped to ±ELIM (n,), and the step of :func:`step_batch` with that
+    effort held, starting from q̈_ref when nothing saturated.  The same operations as
+    :func:`ct_batch`, NumPy's clip and :func:`step_batch` one after the other, so the same
+    bits.  A command whose sum of squares is not finite is :data:`BAD_EFFORT` (not
+    stepped)."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    work = _work(n)
+    O, CS, F, NM = work[0], work[1], work[2], work[3]
+    held = np.zeros(n, dtype=np.bool_)
+    qdd_ref = np.empty(n)
+    for i in range(Q.shape[0]):
+        if not active[i]:
+            continue
+        cmd, tau = CMD[i], TAU[i]
+        _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, cmd, qdd_ref, O, CS, F, NM)
+        squares = 0.0
+        for j in range(n):
+            squares += cmd[j] * cmd[j]
+        if not math.isfinite(squares):
+            STATUS[i] = BAD_EFFORT
+            continue
+        saturated = False
+        for j in range(n):
+            x = cmd[j]
+            if abs(x) > ELIM[j]:
+                saturated = True
+            tau[j] = min(max(x, -ELIM[j]), ELIM[j])
+        STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], tau, qdd_ref, not saturated, g0, held, False, stops,
+                              Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)

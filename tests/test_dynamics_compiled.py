@@ -243,3 +243,37 @@ def test_the_stepper_holds_joints_resting_on_their_stops_and_leaves_the_rest_to_
     assert out.status[3] == dyn.STEP_CROSSED and np.array_equal(out.q[3], free.q[3])
     point = dataclasses.replace(rob, q_min=q0.copy(), q_max=np.where(np.arange(4) == 0, q0, np.inf))
     assert dyn.Stepper(point, 5, 1e-3).step(Q, QD, TAU, stops=True).status[0] == dyn.STEP_AT_STOP
+
+
+@pytest.mark.parametrize("method", ["rk4", "euler"])
+def test_computed_torque_fused_into_the_step_is_the_law_then_the_step(method):
+    """step_computed_torque = computed_torque, the clip at the effort limit, then step (from
+    the reference acceleration where nothing saturated): the same bits compiled, round-off
+    against the reference backend; a non-finite command is BAD_EFFORT and not stepped."""
+    rob, rng = _chain(12, 5, "modified", True)
+    N = 6
+    Q, QD, QDES, QDDES, QDDDES = random_q(rob, rng, N), *rng.normal(size=(4, N, 5))
+    KP, KD = rng.uniform(10, 100, N), rng.uniform(1, 20, N)
+    peak = np.abs(dyn.computed_torque(rob, Q, QD, QDES, QDDES, QDDDES, KP[:, None], KD[:, None])[0]).max(axis=1)
+    limit = np.full(5, np.median(peak))  # about half the arms saturate
+    QDDDES[5, 2] = np.inf
+    stepper = dyn.Stepper(rob, N, 1e-3, method)
+
+    def fused():
+        out = stepper.step_computed_torque(Q, QD, QDES, QDDES, QDDDES, KP, KD, limit)
+        return out.command.copy(), out.effort.copy(), out.q.copy(), out.qd.copy(), out.qdd.copy(), out.status.copy()
+
+    command, effort, q1, qd1, qdd1, status = fused()
+    assert status[:5].tolist() == [dyn.STEP_OK] * 5 and status[5] == dyn.STEP_BAD_EFFORT
+    tau, qdd_ref = dyn.computed_torque(rob, Q[:5], QD[:5], QDES[:5], QDDES[:5], QDDDES[:5], KP[:5, None], KD[:5, None])
+    saturated = (np.abs(tau) > limit).any(axis=1)
+    assert saturated.any() and not saturated.all()
+    clipped = np.clip(tau, -limit, limit)
+    plain = dyn.Stepper(rob, 5, 1e-3, method).step(Q[:5], QD[:5], clipped, qdd_ref, ~saturated)
+    for got, want in ((command[:5], tau), (effort[:5], clipped), (q1[:5], plain.q), (qd1[:5], plain.qd), (qdd1[:5], plain.qdd)):
+        assert np.array_equal(got, want)
+    QDDDES[5, 2] = 0.0
+    compiled, reference = _both(fused)
+    assert (reference[-1] == dyn.STEP_OK).all()
+    for c, r, what in zip(compiled[:5], reference[:5], ("command", "effort", "q", "qd", "qdd")):
+        _close(c, r, what)

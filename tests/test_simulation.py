@@ -199,6 +199,37 @@ def test_effort_limit_saturates_the_command_and_reports_it():
     assert sim.q[0] < 0.0  # too weak to lift the rod: it sags despite the PD demand
 
 
+class _LawOutsideTheStep(ComputedTorque):
+    """Computed torque evaluated by its own call (the simulation fuses only ComputedTorque
+    itself into its step call)."""
+
+
+def test_computed_torque_in_the_step_call_equals_the_controller_called_first():
+    """PUMA 560 with its drives (friction, effort limits that saturate on the way) and
+    its stops, computed torque toward a set point beyond a limit: the fused step and the
+    controller-then-step loop give identical bits; a NaN reference is refused by the
+    controller's own check, naming it."""
+    rob = robot("puma560")
+    goal = np.clip(rob.q_home + 1.5, None, rob.q_max + 0.2)
+    runs = []
+    for kind in (ComputedTorque, _LawOutsideTheStep):
+        state = RobotState(rob)
+        state.set_q_des(goal)
+        sim = Simulation(rob, state, kind(rob, control_gains(rob, bandwidth=4.0)))
+        rows = []
+        for _ in range(400):
+            sim.step(1)
+            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, sim.effort_command, sim.saturated, sim.at_limit]))
+        runs.append(np.array(rows))
+    np.testing.assert_array_equal(runs[0], runs[1])
+    n = rob.n_dofs
+    assert runs[0][:, 5 * n : 6 * n].any() and runs[0][:, 6 * n :].any()  # it saturated and reached a stop
+    sim = Simulation(rob, controller=ComputedTorque(rob, control_gains(rob)),
+                     reference=lambda t: (np.full(n, np.nan), np.zeros(n), np.zeros(n)))
+    with pytest.raises(ValueError, match="q_des must be finite"):
+        sim.step(1)
+
+
 def test_velocity_limit_is_enforced_by_the_drive():
     vmax = 0.8
     rob = pendulum(drives=Drives.from_arrays(1, velocity_limit=[vmax]))

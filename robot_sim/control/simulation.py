@@ -67,7 +67,7 @@ from robot_sim import dynamics
 from robot_sim.collision.checker import CollisionChecker
 from robot_sim.collision.contact import DEFAULT_FRICTION, ContactForce, ContactModel
 from robot_sim.control import joint_stops
-from robot_sim.control.controllers import Controller, Passive
+from robot_sim.control.controllers import ComputedTorque, Controller, Passive
 from robot_sim.control.reference import Desired, Reference, task_from_joints
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
@@ -394,10 +394,11 @@ class Simulation:
         """One step; returns the desired values at its start."""
         q, qd, t = self.q, self.qd, self.time
         desired = desired_at(t)
+        controller = self.controller
         self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
-        if self.controller.continuous and not self._any_at_limit and self._pull is None and self._wrench is None \
-                and not self._touching:
-            fused = self.controller.integrate(q, qd, t, self.dt, self._integrator, desired_at, self.effort_limit)
+        alone = self._pull is None and self._wrench is None and not self._touching  # nothing but the effort acts
+        if controller.continuous and not self._any_at_limit and alone:
+            fused = controller.integrate(q, qd, t, self.dt, self._integrator, desired_at, self.effort_limit)
             if fused is not None:  # the whole step in one call of the controller, within every limit
                 q1, qd1, qdd, tau = fused
                 stops = None
@@ -405,9 +406,20 @@ class Simulation:
                     q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
                 self._finish(q1, qd1, qdd, tau, tau, np.zeros(self.robot.n_dofs, dtype=bool), stops)
                 return desired
-        command = self.controller.torque(q, qd, *desired)
-        if not _finite(command):
-            raise _Diverged(f"the {self.controller.mode} controller returned a non-finite effort {command}")
+        step = None
+        if type(controller) is ComputedTorque and controller.robot is self.robot and alone:
+            # the control law inside the step call: one compiled call for both
+            step = self._stepper_of().step_computed_torque(
+                q[None], qd[None], *(np.asarray(x, dtype=float)[None] for x in desired), controller.kp, controller.kd,
+                self.effort_limit, stops=self._limit_position,
+            )
+            command = step.command[0].copy()
+            if step.status[0] == dynamics.STEP_BAD_EFFORT:  # the controller names bad input or says why
+                command, step = controller.torque(q, qd, *desired), None
+        else:
+            command = controller.torque(q, qd, *desired)
+        if step is None and not _finite(command):  # (the fused step checked its command)
+            raise _Diverged(f"the {controller.mode} controller returned a non-finite effort {command}")
         saturated = np.abs(command) > self.effort_limit if self._limit_effort else self.saturated
         tau = np.clip(command, -self.effort_limit, self.effort_limit) if saturated.any() else command
         f_tool = self._tool_wrench(q, qd)
@@ -416,19 +428,21 @@ class Simulation:
         # acceleration, to round-off), which saves one forward dynamics per step.
         known = None
         plain = f_tool is None and not self._touching  # nothing but the effort acts
-        if tau is command and plain and getattr(self.controller, "robot", None) is self.robot:
-            known = self.controller.commanded_acceleration()
+        if step is None and tau is command and plain and getattr(controller, "robot", None) is self.robot:
+            known = controller.commanded_acceleration()
         stops = None
-        if self.controller.continuous and not self._any_at_limit:  # the law at every stage
+        if step is None and controller.continuous and not self._any_at_limit:  # the law at every stage
             if known is None or not _finite(known):
                 known = self._accel(q, qd, tau, f_tool)
             q1, qd1, qdd = self._runge_kutta(q, qd, self.dt, known, self._continuous_accel(desired_at, t, f_tool))
             if self._limit_position and self._crosses(q1):
                 q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
-        elif plain:  # one stepper call; it holds joints resting on their stops itself
-            step = self._stepper_of().step(
-                q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE, stops=self._limit_position
-            )
+        elif step is not None or plain:  # one stepper call; it holds joints resting on their stops itself
+            if step is None:
+                step = self._stepper_of().step(
+                    q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE,
+                    stops=self._limit_position,
+                )
             status = step.status[0]
             if status == dynamics.STEP_AT_STOP:
                 q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, None)
