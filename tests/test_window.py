@@ -297,7 +297,7 @@ def test_circle_demo_and_velocity_vectors(app: QApplication) -> None:
         press(app, Qt.Key_V)
         assert not win.session.options.show_vectors
         assert changed_pixels(with_vectors, grab(win)) > 50
-        press(app, Qt.Key_C)
+        press(app, Qt.Key_C, Qt.ShiftModifier)
         assert win.session.demo is None and not win.timer.isActive()
     finally:
         win.close()

@@ -28,6 +28,8 @@ from robot_sim.model.messages import clip
 from robot_sim.model.params import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
 from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
+from robot_sim.io.world_file import WorldDefinitionError, load_world
+from robot_sim.model.world import World
 from robot_sim.viewer import recording
 from robot_sim.viewer.pick_demo import plan_for
 from robot_sim.control.controllers import PHYSICAL_MODES
@@ -86,6 +88,8 @@ class Config:
     theme: str = go.DEFAULT_THEME  # --theme
     look: str | None = None  # --look (None: the robot's default look)
     command: str = PROG  # the command line as given: pictures record it (picture_text)
+    world: World | None = None  # --world: obstacles (None: the floor only)
+    collision: bool = False  # --collision: the collision display shown
 
 
 def picture_text(config: Config) -> dict[str, str]:
@@ -143,6 +147,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--fps", metavar="F", help=f"with --record: frames per second (default: {RECORD_DEFAULT_FPS:g})")
     parser.add_argument("--annotate", metavar="J",
                         help="draw joint J's DH parameters (d, θ, a, α) between frames J-1 and J, J = 1..n")
+    parser.add_argument("--world", metavar="FILE.toml",
+                        help="obstacles the arm collides with and, simulated, rests on (a world file; "
+                             "default: the floor only)")
+    parser.add_argument("--collision", action="store_true",
+                        help="show the collision display (key C): collision shapes, contacts in red, the closest pair")
     parser.add_argument("--motion", choices=MOTIONS,
                         help="simulate the arm: passive (falls), pd, pdg (PD + gravity), ct (computed torque), "
                              "osc (operational space), impedance")
@@ -337,6 +346,10 @@ def config_from_args(args: argparse.Namespace) -> Config:
     record, duration, fps = record_arguments(args, pick_plan, time)
     gains = gain_arguments(args, robot)
     simulate = duration if args.motion is not None and record is None and args.duration is not None else 0.0
+    try:
+        world = None if args.world is None else load_world(args.world)
+    except WorldDefinitionError as exc:
+        raise CliError(f"--world: {exc}") from None
     return Config(
         robot_arg=args.robot,
         robot=robot,
@@ -360,6 +373,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
         gains=gains,
         theme=theme,
         look=parse_look(args.look, robot),
+        world=world,
+        collision=args.collision,
     )
 
 
@@ -445,7 +460,9 @@ def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
 def session_from_config(config: Config) -> ViewerSession:
     """A ViewerSession with the command line's q, motion (simulated for --duration),
     frames, wireframe and annotated joint applied, framed for all of it."""
-    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1], gain_overrides=config.gains)
+    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1], gain_overrides=config.gains,
+                            world=config.world)
+    session.options.show_collision = config.collision
     if config.q is not None:
         session.set_q(config.q)
     if config.motion is not None and config.pick_plan is None:  # a pick run is replayed
@@ -476,7 +493,7 @@ def window_options(config: Config) -> "WindowOptions":
 
     return WindowOptions(robot_arg=config.robot_arg, workspace=config.workspace,
                          circle_demo=config.demo == "circle", message=config.pick_report,
-                         gains=dict(config.gains))
+                         gains=dict(config.gains), world=config.world)
 
 
 def write_recording(config: Config) -> tuple[list[Path], Path | None]:

@@ -106,6 +106,8 @@ class ContactModel:
         self._anchored = np.zeros((0, K.POINTS), dtype=np.bool_)
         self._out = np.zeros((0, K.POINTS, K.OUT))
         self._F = np.empty((n + 1, 3, 4))
+        self._near = np.zeros(1, dtype=np.bool_)  # buffers of the compiled near check
+        self._stats = np.zeros(2, dtype=np.int64)
 
     # ------------------------------------------------------------------ stepping
     @property
@@ -128,13 +130,16 @@ class ContactModel:
         qd = np.ascontiguousarray(qd, dtype=float)
         scene = self.checker.scene
         margin = self.margin(q, qd, dt)
+        if self._active.size == 0:  # nothing was near: one compiled check, usually all there is
+            batch.in_collision_batch(q[None], *scene.args(), self._pairs, scene.verts, margin, self._near,
+                                     self._stats)
+            if not self._near[0]:
+                return False
         P = self._pairs.shape[0]
         d, pts, nrm = np.empty(P), np.zeros((P, 2, 3)), np.zeros((P, 3))
         batch.pair_results(q, *scene.args(), self._pairs, scene.verts, margin, d, pts, nrm,
                            np.empty_like(scene.recs0))
         near = np.flatnonzero(d < margin)
-        if near.size == 0 and self._active.size == 0:
-            return False
         previous = {int(p): k for k, p in enumerate(self._active)}
         A = near.size
         gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
@@ -153,8 +158,7 @@ class ContactModel:
         self._rows = np.ascontiguousarray(self._pairs[near])
         self._out = np.zeros((A, K.POINTS, K.OUT))
         if A and self.friction > 0.0:
-            self._evaluate(q, qd)
-            self._move_anchors()  # (self._F holds the frames at q)
+            self._evaluate(q, qd, update=True)
         return A > 0
 
     def torque(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
@@ -173,7 +177,7 @@ class ContactModel:
             i, j = self._pairs[p]
             for out in self._out[k]:
                 if out[K.O_D] < 0.0:
-                        found.append(ContactForce((owner[i], owner[j]), out[K.O_POINT:K.O_POINT + 3].copy(),
+                    found.append(ContactForce((owner[i], owner[j]), out[K.O_POINT:K.O_POINT + 3].copy(),
                                               out[K.O_NORMAL:K.O_NORMAL + 3].copy(), float(-out[K.O_D]),
                                               out[K.O_FORCE:K.O_FORCE + 3].copy()))
         return found
@@ -185,9 +189,8 @@ class ContactModel:
             return 0.0
         q = np.ascontiguousarray(q, dtype=float)
         self._evaluate(q, np.zeros(self.robot.n_dofs))
-        self._frames(q)
         depth = np.maximum(-self._out[:, :, K.O_D], 0.0)  # (A, POINTS)
-        u = self._offsets()
+        u = self._out[:, :, K.O_SLIP:K.O_SLIP + 3]
         spring = self._gains[:, K.K_N, None] * depth**2 + self._gains[:, K.K_T, None] * np.sum(u * u, axis=2)
         return float(0.5 * np.sum(np.where(depth > 0.0, spring, 0.0)))
 
@@ -196,14 +199,16 @@ class ContactModel:
         self.__init__(self.checker, friction=self.friction)
 
     # ------------------------------------------------------------------ helpers
-    def _evaluate(self, q: FloatArray, qd: FloatArray) -> FloatArray:
+    def _evaluate(self, q: FloatArray, qd: FloatArray, update: bool = False) -> FloatArray:
         scene = self.checker.scene
         tau = np.empty(self.robot.n_dofs)
         K.contact_torque(q, qd, *scene.args(), scene.verts, self._body, self._axis_frame, self._revolute,
-                         self._rows, self._gains, self.friction, self._anchors, self._anchored, tau, self._out)
+                         self._rows, self._gains, self.friction, self._anchors, self._anchored, update, tau,
+                         self._out)
         return tau
 
     def _frames(self, q: FloatArray) -> None:
+        """World frames 0..n at q into self._F (for the gains' Jacobians)."""
         scene = self.checker.scene
         batch.link_frames(q, scene.dh, self.robot.is_modified, scene.world0, self._F)
 
@@ -226,51 +231,3 @@ class ContactModel:
         m_n, m_t = 1.0 / normal_inverse, 1.0 / tangent_inverse
         return np.array([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
                          m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega])
-
-    def _offsets(self) -> FloatArray:
-        """(A, POINTS, 3) tangential offset u between each anchored contact point's anchors
-        (world, at the frames in self._F; zero where not anchored)."""
-        u = np.zeros((self._active.size, K.POINTS, 3))
-        for k, e in zip(*np.nonzero(self._anchored)):
-            i, j = self._pairs[self._active[k]]
-            anchor = self._anchors[k, e]
-            w = self._world(self._body[j], anchor[1]) - self._world(self._body[i], anchor[0])
-            n = self._out[k, e, K.O_NORMAL:K.O_NORMAL + 3]
-            u[k, e] = w - (w @ n) * n
-        return u
-
-    def _world(self, body: int, x: FloatArray) -> FloatArray:
-        if body < 0:
-            return x.copy()
-        return self._F[body, :, :3] @ x + self._F[body, :, 3]
-
-    def _local(self, body: int, x: FloatArray) -> FloatArray:
-        if body < 0:
-            return x.copy()
-        return self._F[body, :, :3].T @ (x - self._F[body, :, 3])
-
-    def _move_anchors(self) -> None:
-        """After an evaluation at a step's start: anchor the pairs that touch for the first
-        time at their witness points, release the ones that no longer touch, and slide
-        the second anchor of pairs whose spring exceeds μ f_n back onto the cap."""
-        u = self._offsets()
-        for k, p in enumerate(self._active):
-            i, j = self._pairs[p]
-            for e in range(K.POINTS):
-                out, anchor = self._out[k, e], self._anchors[k, e]
-                normal = out[K.O_NORMAL:K.O_NORMAL + 3]
-                if not out[K.O_D] < 0.0 or self._gains[k, K.K_N] <= 0.0:
-                    self._anchored[k, e] = False
-                    continue
-                if not self._anchored[k, e]:
-                    a = out[K.O_POINT:K.O_POINT + 3]
-                    anchor[0] = self._local(self._body[i], a)
-                    anchor[1] = self._local(self._body[j], a + out[K.O_D] * normal)
-                    self._anchored[k, e] = True
-                    continue
-                f_n = -float(out[K.O_FORCE:K.O_FORCE + 3] @ normal)
-                size = float(np.linalg.norm(u[k, e]))
-                cap = self.friction * max(f_n, 0.0) / self._gains[k, K.K_T]
-                if size > cap:
-                    b = self._world(self._body[j], anchor[1]) - (1.0 - cap / size) * u[k, e]
-                    anchor[1] = self._local(self._body[j], b)

@@ -20,10 +20,11 @@ from robot_sim.collision.narrow import core_ends, pair_distance
 
 # Columns of ``gains`` (A, 4) per active pair.
 K_N, C_N, K_T, C_T = range(4)
-# Columns of ``out`` (A, OUT) per active pair: signed distance, the first shape's witness
-# point, the normal (first toward second), the force on the first shape.
-O_D, O_POINT, O_NORMAL, O_FORCE = 0, 1, 4, 7
-OUT = 10
+# Columns of ``out`` (A, POINTS, OUT) per contact point: signed distance, the first
+# shape's witness point, the normal (first toward second), the force on the first shape,
+# the tangential offset u between its friction anchors.
+O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP = 0, 1, 4, 7, 10
+OUT = 13
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
 
@@ -92,10 +93,24 @@ def to_world(F, k, x, out):
 
 
 @njit(**JIT)
-def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchor, anchored, tau, out):
+def to_body(F, k, x, out):
+    """World point x in body k's frame (obstacles, k = -1: the world itself)."""
+    if k < 0:
+        out[0], out[1], out[2] = x[0], x[1], x[2]
+        return
+    r0, r1, r2 = x[0] - F[k, 0, 3], x[1] - F[k, 1, 3], x[2] - F[k, 2, 3]
+    for c in range(3):
+        out[c] = F[k, 0, c] * r0 + F[k, 1, c] * r1 + F[k, 2, c] * r2
+
+
+@njit(**JIT)
+def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchor, anchored, slot, update,
+                   tau, out):
     """One contact point of depth −d > 0 (witness points a, b, normal nrm from the first
     shape to the second): its force into tau (joint torque) and out (distance, point,
-    normal, force on the first)."""
+    normal, force on the first, anchor offset).  With ``update`` (a step's start) a point
+    touching for the first time is anchored at its witness points, and a slipping one's
+    second anchor is slid back onto the friction cap."""
     va, vb, xa, xb, fb = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     pa, pb = np.empty(3), np.empty(3)
     for c in range(3):
@@ -107,15 +122,15 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
     fn = max(gains[K_N] * (-d) - gains[C_N] * rate, 0.0)
     for c in range(3):
         fb[c] = fn * nrm[c]
+    u0 = u1 = u2 = 0.0
+    if mu > 0.0 and anchored[slot]:
+        to_world(F, ka, anchor[0], xa)
+        to_world(F, kb, anchor[1], xb)
+        w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
+        wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
+        u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
-        u0 = u1 = u2 = 0.0
-        if anchored:
-            to_world(F, ka, anchor[0], xa)
-            to_world(F, kb, anchor[1], xb)
-            w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
-            wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
-            u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
         g0 = -gains[K_T] * u0 - gains[C_T] * t0
         g1 = -gains[K_T] * u1 - gains[C_T] * t1
         g2 = -gains[K_T] * u2 - gains[C_T] * t2
@@ -128,25 +143,44 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
     add_point_torque(F, ka, pa, fb, -1.0, axis_frame, revolute, tau)
     for c in range(3):
         out[O_FORCE + c] = -fb[c]
+    out[O_SLIP], out[O_SLIP + 1], out[O_SLIP + 2] = u0, u1, u2
+    if not (update and mu > 0.0):
+        return
+    if not anchored[slot]:
+        to_body(F, ka, pa, anchor[0])
+        to_body(F, kb, pb, anchor[1])
+        anchored[slot] = True
+        return
+    size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    cap = mu * fn / gains[K_T]
+    if size > cap:
+        keep = 1.0 - cap / size
+        xb[0] -= keep * u0
+        xb[1] -= keep * u1
+        xb[2] -= keep * u2
+        to_body(F, kb, xb, anchor[1])
 
 
 @njit(**JIT)
 def contact_torque(q, qd, dh, modified, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
-                   revolute, rows, gains, mu, anchors, anchored, tau, out):
+                   revolute, rows, gains, mu, anchors, anchored, update, tau, out):
     """The joint torque tau (n,) of the active pairs ``rows`` (A, 2) at (q, qd), and per
     pair and contact point into ``out`` (A, POINTS, OUT) its distance, witness point,
-    normal and force (distance inf: no such point).
+    normal, force and anchor offset (distance inf: no such point).
 
     Contact points of a pair (first shape a, second b): their closest points and, when a
     is a capsule, the sphere of its shallower end (slot 1 or 2 for its end) if that
     overlaps too: a capsule lying flat rests on both ends instead of rocking between them,
     and the springs' energy ½ k (δ² + δ_end²) stays a smooth function of q (the two ends
-    trade places where their depths are equal).  A point of depth δ > 0 pushes the shapes apart with
-    f_n = max(0, k_n δ − c_n ḋ) along its normal (ḋ the separation rate).  With friction
-    (mu > 0) the tangential force is −k_T u − c_T v_t, capped at mu · f_n, where u is the
-    tangential offset between the point's two anchors (``anchors`` (A, POINTS, 2, 3): a
-    point on each shape, in its body's frame; zero where not ``anchored``) and v_t the
-    slip velocity.  The force on b acts at b's witness point, its opposite at a's."""
+    trade places where their depths are equal).  A point of depth δ > 0 pushes the
+    shapes apart with f_n = max(0, k_n δ − c_n ḋ) along its normal (ḋ the separation
+    rate).  With friction (mu > 0) the tangential force is −k_T u − c_T v_t, capped at
+    mu · f_n, where u is the tangential offset between the point's two anchors
+    (``anchors`` (A, POINTS, 2, 3): a point on each shape, in its body's frame; zero
+    where not ``anchored`` (A, POINTS)) and v_t the slip velocity.  The force on b acts
+    at b's witness point, its opposite at a's.  ``update`` (at a step's start) also
+    moves the anchors (:func:`_contact_force`) and releases those of points that do not
+    touch."""
     F, recs, wc = _workspace(dh, link, recs0, bc)
     _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
     for j in range(tau.shape[0]):
@@ -158,28 +192,29 @@ def contact_torque(q, qd, dh, modified, world0, link, local, recs0, kinds, bc, b
             out[p, e, O_D] = math.inf
         d, a, b, nrm = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, math.inf)
         _record(out[p, 0], d, a, nrm)
-        if gains[p, K_N] <= 0.0:
-            continue
-        if d < 0.0:
+        if gains[p, K_N] > 0.0 and d < 0.0:
             _contact_force(F, body[i], body[j], d, a, b, nrm, qd, axis_frame, revolute, gains[p], mu, anchors[p, 0],
-                           anchored[p, 0], tau, out[p, 0])
-        if kinds[i] != L.CAPSULE or d >= 0.0:
-            continue
-        ends = core_ends(kinds[i], recs[i])
-        d_end = np.empty(2)
-        for e in range(2):
-            end[:] = recs[i]
-            for c in range(3):
-                end[L.POS + c] = ends[e][c]
-            d_end[e] = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)[0]
-        e = 0 if d_end[0] >= d_end[1] else 1  # the shallower end
-        if d_end[e] < 0.0:
-            for c in range(3):
-                end[L.POS + c] = ends[e][c]
-            de, ae, be, ne = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-            _record(out[p, 1 + e], de, ae, ne)
-            _contact_force(F, body[i], body[j], de, ae, be, ne, qd, axis_frame, revolute, gains[p], mu,
-                           anchors[p, 1 + e], anchored[p, 1 + e], tau, out[p, 1 + e])
+                           anchored[p], 0, update, tau, out[p, 0])
+            if kinds[i] == L.CAPSULE:
+                ends = core_ends(kinds[i], recs[i])
+                d_end = np.empty(2)
+                for e in range(2):
+                    end[:] = recs[i]
+                    for c in range(3):
+                        end[L.POS + c] = ends[e][c]
+                    d_end[e] = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)[0]
+                e = 0 if d_end[0] >= d_end[1] else 1  # the shallower end
+                if d_end[e] < 0.0:
+                    for c in range(3):
+                        end[L.POS + c] = ends[e][c]
+                    de, ae, be, ne = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    _record(out[p, 1 + e], de, ae, ne)
+                    _contact_force(F, body[i], body[j], de, ae, be, ne, qd, axis_frame, revolute, gains[p], mu,
+                                   anchors[p, 1 + e], anchored[p], 1 + e, update, tau, out[p, 1 + e])
+        if update:
+            for e in range(POINTS):
+                if not out[p, e, O_D] < 0.0 or gains[p, K_N] <= 0.0:
+                    anchored[p, e] = False
 
 
 @njit(**JIT)
@@ -189,3 +224,4 @@ def _record(out, d, a, nrm):
         out[O_POINT + c] = a[c]
         out[O_NORMAL + c] = nrm[c]
         out[O_FORCE + c] = 0.0
+        out[O_SLIP + c] = 0.0

@@ -174,3 +174,12 @@ GRIPPER_FINGER_THICKNESS_M = 0.008         # across the grip (tool y)
 GRIPPER_FINGER_WIDTH_M = 0.02              # along tool x
 GRIPPER_FINGER_TIP_PAST_M = 0.01           # fingertips this far past the tool point
 GRIPPER_PALM_THICKNESS_M = 0.012
+
+# Collision display (key C): the robot's collision shapes, red where they touch, the
+# world's obstacles, and the closest checked pair's line with its distance
+COLLISION_SHAPE_COLOR = (0.25, 0.90, 0.45, 0.35)  # translucent green: clear of everything
+COLLISION_CONTACT_COLOR = (1.00, 0.10, 0.10, 0.70)  # red: a shape in contact
+OBSTACLE_COLOR = (0.55, 0.60, 0.70, 0.55)           # see-through steel: the world's obstacles
+CLOSEST_COLOR = (0.10, 0.90, 1.00, 1.0)             # cyan line between the closest pair's points
+CLOSEST_WIDTH_PX = 2.0
+CLOSEST_POINT_RADIUS_M = 0.006                      # dots at the closest pair's witness points

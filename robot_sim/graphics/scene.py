@@ -14,6 +14,7 @@ from robot_sim.kinematics import Kinematics
 from robot_sim.transforms import HomogeneousTransform
 
 if TYPE_CHECKING:
+    from robot_sim.graphics.collision_scene import CollisionScene
     from robot_sim.graphics.workspace import WorkspaceCloud
     from robot_sim.graphics.task_scene import TaskScene
 
@@ -37,7 +38,8 @@ class GraphicsOptions:
     ``theme`` names the colours of the world (``themes.THEMES``: "dark", "light");
     ``look`` how the robot is drawn (``looks.LOOKS``; None: its meshes if it has any,
     else its DH segments); ``samples`` the multisample anti-aliasing (0 or 1: none);
-    ``shadows`` whether the key light casts shadows.
+    ``shadows`` whether the key light casts shadows; ``show_collision`` the collision
+    display (key C).
     """
 
     def __init__(self, n_frames: int) -> None:
@@ -60,6 +62,7 @@ class GraphicsOptions:
         self.look: str | None = None
         self.samples: int = gd.MSAA_SAMPLES
         self.shadows: bool = True
+        self.show_collision: bool = False
 
     @property
     def n_frames(self) -> int:
@@ -121,7 +124,8 @@ class Scene:
     ``workspace``: a point cloud or None.  ``task``: the pick task's table, object,
     gripper and planned path (the endeffector sphere is then left out: the gripper is
     the endeffector), or None.  ``trail``: the endeffector's recent path (N, 3), drawn
-    as a line in ``TRAIL_COLOR``, or None.
+    as a line in ``TRAIL_COLOR``, or None.  ``collision``: the collision display (key
+    C: collision shapes, contacts, the closest pair), or None.
     """
 
     kinematics: Kinematics
@@ -132,4 +136,5 @@ class Scene:
     workspace: WorkspaceCloud | None = None
     task: TaskScene | None = None
     trail: NDArray[np.float64] | None = None
+    collision: CollisionScene | None = None
 

@@ -42,6 +42,7 @@ from robot_sim.viewer.pick_demo import plan_for
 from robot_sim.viewer.readout import pose_readout
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES
 from robot_sim.model.params import RobotDefinitionError, RobotParams
+from robot_sim.model.world import World
 from robot_sim.io.robot_file import available_robots, resolve_robot_path
 from robot_sim.viewer.trail import Trail
 from robot_sim.qt.elided_label import ElidedLabel
@@ -71,14 +72,16 @@ APP_NAME = "robot-sim"
 class WindowOptions:
     """How the window opens around its session: the robot chooser's entry (a shipped name or a
     file path, as given), the workspace cloud's point count (0: off),
-    whether the circle demo runs, a first status message, and the gain overrides the motion
-    chooser keeps (``bandwidth``, ``damping``)."""
+    whether the circle demo runs, a first status message, the gain overrides the motion
+    chooser keeps (``bandwidth``, ``damping``) and the world every robot shown stands in
+    (None: the floor only)."""
 
     robot_arg: str
     workspace: int = 0
     circle_demo: bool = False
     message: str | None = None
     gains: dict[str, Any] = field(default_factory=dict)
+    world: World | None = None
 
 
 def opening_size() -> tuple[int, int]:
@@ -389,7 +392,9 @@ class MainWindow(QtWidgets.QMainWindow):
             measure = manipulability(session.robot, q, session.kin.jacobian)
         except ValueError:  # arms under 6 joints probe their range: an unlimited slider has none
             measure = math.nan
-        self.readout.setText(pose_readout(endeff, measure, session.tracking_error()))
+        collision = self.session.collision_readout()
+        readout = pose_readout(endeff, measure, session.tracking_error())
+        self.readout.setText(readout + ("" if collision is None else "\n" + collision))
         if self.trail is not None:
             self.trail.add(endeff.t())  # drawn by the view.update() below
         if self.following:
@@ -511,8 +516,9 @@ class MainWindow(QtWidgets.QMainWindow):
         self.timer.stop()
         # per-joint gains of the command line belong to the robot it named
         gains = {k: v for k, v in self.options.gains.items() if k in ("bandwidth", "damping")}
-        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1), gain_overrides=gains)
-        for flag in ("wireframe", "alpha", "show_vectors", "theme", "look"):
+        self.session = ViewerSession(robot, aspect=self.view.width() / max(self.view.height(), 1), gain_overrides=gains,
+                                     world=self.options.world)
+        for flag in ("wireframe", "alpha", "show_vectors", "theme", "look", "show_collision"):
             setattr(self.session.options, flag, getattr(old.options, flag))
         self.session.camera.orthographic = old.camera.orthographic
         if keep_q:
@@ -640,6 +646,7 @@ class MainWindow(QtWidgets.QMainWindow):
             "toggle_labels": self.act_toggle_labels,
             "toggle_com": self.act_toggle_com,
             "toggle_demo": self.act_toggle_demo,
+            "toggle_collision": self.act_toggle_collision,
             "toggle_pick": self.act_toggle_pick,
             "toggle_target": self.act_toggle_target,
             "move_target": self.act_move_target,
@@ -804,6 +811,11 @@ class MainWindow(QtWidgets.QMainWindow):
         if not move():
             self.message("IK target unreachable: the ghost stays at the last reachable pose")
         self.start_motion()
+
+    def act_toggle_collision(self, _: None) -> None:
+        shown = self.session.toggle_collision()
+        self.message("collision display " + ("on: shapes, contacts in red, closest pair" if shown else "off"))
+        self.view.update()
 
     def act_toggle_demo(self, _: None = None) -> None:
         self.message("circle demo " + ("started" if self.session.toggle_demo() else "stopped"))

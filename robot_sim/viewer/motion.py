@@ -5,7 +5,8 @@ or physically (a :class:`simulation.Simulation` driven by one of robot_sim/contr
 simulation of one robot and its :class:`~robot_state.RobotState`.  In a physical mode the
 state's desired values (sliders, IK ghost, demo) are the controller's set point and the
 current values are simulated; the mouse can pull the endeffector with a spring
-(:meth:`Motion.start_pull`).  A robot file without inertial data is simulated with
+(:meth:`Motion.start_pull`).  Simulated links rest on the world's obstacles and the
+floor (penalty contact with friction, ``collision.contact``).  A robot file without inertial data is simulated with
 ``inertials.estimate_inertials`` and :attr:`Motion.estimated` says so.
 
 Units: SI (rad, m, s, N, N·m); points in the world frame.
@@ -19,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.collision.checker import CollisionChecker
 from robot_sim.dynamics import GRAVITY
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES, Gains, control_gains
 from robot_sim.control.factory import make_controller
@@ -26,6 +28,7 @@ from robot_sim.model.estimate import estimate_inertials
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
+from robot_sim.model.world import World
 from robot_sim.control.simulation import LimitEvent, Simulation
 
 FloatArray = NDArray[np.float64]
@@ -44,15 +47,17 @@ class Motion:
     """Motion mode, controller gains and simulation of one robot shown by a viewer.
 
     ``gain_overrides`` (keys ``bandwidth``, ``damping``, ``kp``, ``kd``) go to
-    :func:`control.control_gains` over the file's ``[control]`` table.
+    :func:`control.control_gains` over the file's ``[control]`` table.  ``world`` holds
+    what the links touch (the floor when None).
     """
 
-    def __init__(self, robot: RobotParams, state: RobotState, gain_overrides: dict[str, Any] | None = None) -> None:
+    def __init__(self, robot: RobotParams, state: RobotState, gain_overrides: dict[str, Any] | None = None,
+                 world: World | None = None) -> None:
         self.estimated = robot.inertials is None
         self.robot = estimate_inertials(robot) if self.estimated else robot
         self.state = state
         self.gains: Gains = control_gains(self.robot, **(gain_overrides or {}))
-        self.sim = Simulation(self.robot, state)
+        self.sim = Simulation(self.robot, state, checker=CollisionChecker(self.robot, world))
         self.mode = "kinematic"
         self.pull_point: FloatArray | None = None
         mass = float(np.sum(self.robot.inertials.mass))

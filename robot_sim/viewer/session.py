@@ -29,12 +29,14 @@ from robot_sim.kinematics import (
     workspace_points,
 )
 from robot_sim.control.reference import fixed_pose
+from robot_sim.viewer.collision_display import CollisionDisplay
 from robot_sim.viewer.motion import Motion
 from robot_sim.viewer.pick_demo import PickDemo
 from robot_sim.viewer.pick_view import clear_view_azimuth
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.model.state import RobotState
+from robot_sim.model.world import World
 from robot_sim.transforms import HomogeneousTransform, rotation_log
 
 
@@ -130,7 +132,10 @@ class ViewerSession:
     gain_overrides: dict[str, Any] = field(default_factory=dict)
     #: Joint-limit arrivals of the simulation since the window last took them.
     limit_events: list[Any] = field(default_factory=list)
+    #: The obstacles the arm collides with and, simulated, rests on (None: the floor).
+    world: World | None = None
     _motion: Motion | None = field(default=None, init=False, repr=False)
+    _collision: CollisionDisplay | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.state = RobotState(self.robot)
@@ -178,7 +183,7 @@ class ViewerSession:
         """The robot's motion modes and simulation, built on first use (dynamics are
         imported and the gains computed only when a physical mode is wanted)."""
         if self._motion is None:
-            self._motion = Motion(self.robot, self.state, self.gain_overrides)
+            self._motion = Motion(self.robot, self.state, self.gain_overrides, self.world)
         return self._motion
 
     @property
@@ -216,6 +221,24 @@ class ViewerSession:
         actual = self.kin.endeff_tf.mat
         rotation = rotation_log(desired[:3, :3] @ actual[:3, :3].T)
         return float(np.linalg.norm(desired[:3, 3] - actual[:3, 3])), float(np.linalg.norm(rotation))
+
+    # ---- collision (key C) ----
+    @property
+    def collision(self) -> CollisionDisplay:
+        """Collision queries of the robot in its world (the checker is built on first use)."""
+        if self._collision is None:
+            self._collision = CollisionDisplay(self.robot, self.world)
+        return self._collision
+
+    def toggle_collision(self) -> bool:
+        """Show or hide the collision display (shapes, contacts in red, the closest pair with
+        its distance, the readout's minimum distance); returns whether it is shown."""
+        self.options.show_collision = not self.options.show_collision
+        return self.options.show_collision
+
+    def collision_readout(self) -> str | None:
+        """The readout's minimum-distance line while the collision display is shown."""
+        return self.collision.readout(self.state.q()) if self.options.show_collision else None
 
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
@@ -476,13 +499,15 @@ class ViewerSession:
             vectors=(self.velocity_vectors() if self.options.show_vectors else []) + self.pull_vectors(),
             workspace=self.workspace,
             task=None if self.pick is None else self.pick.task_scene(),
+            collision=self.collision.scene(self.state.q()) if self.options.show_collision else None,
         )
 
     def status_text(self, fps_text: str) -> str:
         """Status bar text: robot name and frame rate, and a failed IK target's errors
         (the position error only for an arm whose IK places the tool without orienting it:
-        its rotation error is no failure); the endeffector pose has its own readout in
-        the window."""
+        its rotation error is no failure), and a pose in collision while the collision
+        display is shown or the arm is simulated; the endeffector pose has its own
+        readout in the window."""
         text = vs.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
         if self.target_tf is not None and not self.target_reachable:
             if ik_position_only_required(self.robot):
@@ -490,6 +515,8 @@ class ViewerSession:
             else:
                 text += vs.STATUS_TARGET_UNREACHABLE.format(
                     pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err))
+        if self.options.show_collision or self.physical:  # a pose the sliders, IK or physics reached
+            text += self.collision.flag(self.state.q())
         if self._motion is not None:
             text += " | " + self._motion.status_text()
         return text
