@@ -89,6 +89,22 @@ def test_msaa_gives_intermediate_colours_on_an_edge(render) -> None:
     assert smooth > hard + 10, f"partly red rim pixels: {smooth} with MSAA, {hard} without"
 
 
+def test_a_translucent_material_leaves_the_picture_opaque(render) -> None:
+    """A visual whose colour has alpha 0.8 (as rtb-data's URDF materials) is drawn in its
+    colour, and every pixel of the picture keeps alpha 255."""
+    import dataclasses
+
+    from robot_sim.model.shapes import Box
+
+    base = posed("planar3", [20 * DEG, 40 * DEG, -30 * DEG]).robot
+    robot = dataclasses.replace(base, visuals=((), (Box((0.3, 0.1, 0.1), color=(0.0, 0.0, 0.9, 0.8)),), ()))
+    kin = posed(robot, [20 * DEG, 40 * DEG, -30 * DEG])
+    image = render(framed(key_points(kin)), go.Scene(kin), options_for(kin))
+    blue = (image[..., 2] > 120) & (image[..., 2] > 2 * image[..., :2].max(axis=-1).astype(int) + 30)
+    assert blue.sum() > 200, "the box is not drawn"
+    assert image[..., 3].min() == 255, f"{np.count_nonzero(image[..., 3] < 255)} pixels are not opaque"
+
+
 def test_a_mesh_renders_where_its_vertices_project(render) -> None:
     """A magenta tetrahedron mesh on link 2 of the planar arm, in the mesh look: its
     centroid's pixel (from forward kinematics and the link pose) is magenta, and the

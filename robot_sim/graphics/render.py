@@ -52,6 +52,7 @@ def _clear(palette: Theme) -> None:
     """Clear the bound framebuffer's colour to the theme's background and its depth."""
     GL.glClearColor(*palette.background)
     GL.glDepthMask(GL.GL_TRUE)
+    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
     GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
 
 
@@ -63,7 +64,10 @@ def _layer_state(layer: str) -> None:
     if layer == "opaque":
         GL.glDisable(GL.GL_BLEND)
         GL.glDepthMask(GL.GL_TRUE)
+        # a colour's alpha (a URDF material's 0.8) must not reach the picture: it stays opaque
+        GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_FALSE)
         return
+    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
     GL.glEnable(GL.GL_BLEND)  # colours blend; the framebuffer's alpha stays 1 (opaque pictures)
     GL.glBlendFuncSeparate(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA, GL.GL_ZERO, GL.GL_ONE)
     GL.glDepthMask(GL.GL_TRUE if layer == "overlay" else GL.GL_FALSE)
@@ -206,6 +210,7 @@ class View:
             GL.glUseProgram(0)
             GL.glBindBuffer(GL.GL_ARRAY_BUFFER, 0)
             GL.glDepthMask(GL.GL_TRUE)
+            GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
             GL.glDisable(GL.GL_BLEND)
             GL.glBindVertexArray(host_vao)
             GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, host_fbo)
