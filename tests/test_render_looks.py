@@ -11,7 +11,7 @@ from robot_sim import graphics as go
 go.require_osmesa_platform()
 
 from render_helpers import DEG, framed, key_points, options_for, posed, project, render  # noqa: E402,F401
-from robot_sim.graphics.lighting import floor_shadows, key_light, shadow_footprint  # noqa: E402
+from robot_sim.graphics.lighting import key_light  # noqa: E402
 from robot_sim.transforms import HomogeneousTransform  # noqa: E402
 
 
@@ -48,23 +48,6 @@ def test_the_shadow_falls_on_the_floor_away_from_the_light(render) -> None:
     assert darker[y - 2:y + 3, x - 2:x + 3].max() > 30, f"no shadow at {at.round(1)}"
     y, x = int(round(away[1])), int(round(away[0]))
     assert darker[y - 2:y + 3, x - 2:x + 3].max() <= 3, f"a shadow towards the light at {away.round(1)}"
-
-
-def test_shadow_footprint_holds_every_caster_s_shadow() -> None:
-    """Each point's shadow lies on the floor on its ray away from the light (points under
-    the floor stay put); the footprint is their bounding rectangle grown by the margin."""
-    rng = np.random.default_rng(3)
-    points = rng.uniform([-1.0, -1.0, -0.2], [1.0, 1.0, 1.5], size=(200, 3))
-    key = key_light()
-    feet = floor_shadows(points, key)
-    above = points[:, 2] > 0
-    np.testing.assert_allclose(feet[above, 2], 0.0, atol=1e-12)
-    along = (points[above] - feet[above]) / np.linalg.norm(points[above] - feet[above], axis=1, keepdims=True)
-    np.testing.assert_allclose(along, np.tile(key, (above.sum(), 1)), atol=1e-12)
-    np.testing.assert_array_equal(feet[~above], points[~above])
-    x0, y0, x1, y1 = shadow_footprint(points, key, 0.05)
-    assert np.isclose(x0, feet[:, 0].min() - 0.05) and np.isclose(y1, feet[:, 1].max() + 0.05)
-    assert np.isclose(y0, feet[:, 1].min() - 0.05) and np.isclose(x1, feet[:, 0].max() + 0.05)
 
 
 def test_msaa_gives_intermediate_colours_on_an_edge(render) -> None:

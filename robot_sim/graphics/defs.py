@@ -151,7 +151,6 @@ GROUND_AMBIENT = (0.22, 0.22, 0.22)    # ... and faces turned down
 SPECULAR_STRENGTH = 0.35               # Blinn-Phong highlight of the key light
 SHININESS = 40.0                       # Blinn-Phong exponent
 SHADOW_MAP_SIZE = 1024                 # texels a side of the shadow map
-SHADOW_EDGE_TEXELS = 4.0               # soft shadow edge (PCF reach) past the casters' footprint, in texels
 SHADOW_BIAS = 0.002                    # depth bias (light clip units / 2) against shadow acne
 SHADOW_POLYGON_OFFSET = (2.0, 4.0)     # glPolygonOffset(factor, units) of the shadow pass
 MSAA_SAMPLES = 4                       # multisample anti-aliasing (window and offscreen); 0: off

@@ -57,8 +57,7 @@ class Light:
     """The key light (unit vector towards it, shadowed), the fill light, and the shadow
     map's world -> light clip ``matrix`` and texel size (``shadows`` False: none); the
     shadow map sees the sphere of ``radius`` about world ``centre`` (3,), which holds
-    every caster and its shadow on the floor; the shadows fall inside the floor rectangle
-    ``footprint`` (x_min, y_min, x_max, y_max), metres."""
+    every caster and its shadow on the floor."""
 
     key: NDArray[np.float64]
     fill: NDArray[np.float64]
@@ -67,7 +66,6 @@ class Light:
     shadows: bool
     centre: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
     radius: float = 0.0
-    footprint: NDArray[np.float64] = field(default_factory=lambda: np.zeros(4))
 
 
 class Drawing:

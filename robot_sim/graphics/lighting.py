@@ -35,30 +35,14 @@ def fill_light(camera_azimuth_deg: float) -> NDArray[np.float64]:
     return direction(camera_azimuth_deg + FILL_AZIMUTH_OFFSET_DEG, FILL_ELEVATION_DEG)
 
 
-def floor_shadows(casters: ArrayLike, towards_light: ArrayLike) -> NDArray[np.float64]:
-    """Where world points ``casters`` (N, 3) cast their shadows on the floor z = 0: each
-    point above it moved along ``-towards_light`` down to it (N, 3); points at or below
-    the floor stay where they are."""
-    pts = np.asarray(casters, dtype=float).reshape(-1, 3)
-    back = np.asarray(towards_light, dtype=float)
-    above = np.maximum(pts[:, 2], 0.0) / max(back[2], 1e-3)
-    return pts - above[:, None] * back
-
-
-def shadow_footprint(casters: ArrayLike, towards_light: ArrayLike, margin: float) -> NDArray[np.float64]:
-    """The floor rectangle (x_min, y_min, x_max, y_max) in metres holding every shadow
-    that world points ``casters`` (N, 3) cast, grown by ``margin`` metres (the soft
-    edge): the only part of the floor that needs the shadow map."""
-    feet = floor_shadows(casters, towards_light)[:, :2]
-    return np.concatenate([feet.min(axis=0) - margin, feet.max(axis=0) + margin])
-
-
 def shadow_sphere(casters: ArrayLike, towards_light: ArrayLike) -> tuple[NDArray[np.float64], float]:
     """Centre (3,) and radius of a sphere enclosing world points ``casters`` (N, 3) and
     their shadows on the floor z = 0 (each point moved along ``-towards_light`` down to
     the floor): what the shadow map must see."""
     pts = np.asarray(casters, dtype=float).reshape(-1, 3)
-    pts = np.vstack([pts, floor_shadows(pts, towards_light)])
+    back = np.asarray(towards_light, dtype=float)
+    above = np.maximum(pts[:, 2], 0.0) / max(back[2], 1e-3)
+    pts = np.vstack([pts, pts - above[:, None] * back])
     centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
     return centre, float(np.max(np.linalg.norm(pts - centre, axis=1)))
 

@@ -31,7 +31,7 @@ from robot_sim.graphics.camera import Camera
 from robot_sim.graphics.frame import SHADOW_UNIT, Drawing, Frame, Light, Resources
 from robot_sim.graphics.gl import GL, context_key
 from robot_sim.graphics.item import LAYERS, Item
-from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_footprint, shadow_sphere
+from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_sphere
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.targets import MultisampleTarget, ShadowTarget, max_samples
 from robot_sim.graphics.themes import Theme, theme
@@ -149,10 +149,8 @@ class View:
         if not options.shadows or len(points) == 0:
             return Light(key, fill_light(camera.azimuth_deg), np.eye(4), 1.0, False)
         centre, radius = shadow_sphere(points, key)
-        texel = 2.0 * radius / self._shadow.size  # metres a shadow map texel spans
         light = Light(key, fill_light(camera.azimuth_deg), light_matrix(key, centre, radius),
-                      1.0 / self._shadow.size, True, centre, radius,
-                      shadow_footprint(points, key, gd.SHADOW_EDGE_TEXELS * texel))
+                      1.0 / self._shadow.size, True, centre, radius)
         state = (light.matrix.tobytes(), tuple(item.shadow_key() for item in casters))
         if state != self._shadow_state:
             self._draw_shadow(light, casters)

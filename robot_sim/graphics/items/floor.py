@@ -3,8 +3,7 @@ edge, and the shadows of the robot and the task on it; translucent, so parts bel
 floor still show through it.
 
 The square and the grid are plain coloured triangles and lines (the fade is in their
-vertex colours); only a patch over where shadows fall (``Light.footprint``) looks up the
-shadow map.
+vertex colours); only a patch over where shadows can fall looks up the shadow map.
 """
 from __future__ import annotations
 
@@ -109,8 +108,7 @@ class FloorItem(Item):
         program.set("u_view_proj", frame.view_proj).set("u_light_matrix", light.matrix)
         program.set("u_shadow_strength", theme.shadow_strength)
         frame.bind_shadow(program)
-        x0, y0, x1, y1 = (float(v) for v in light.footprint)
-        patch = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x1, y1, 0.0], [x0, y1, 0.0]])
+        patch = _square(float(light.centre[0]), float(light.centre[1]), light.radius)
         n = frame.resources.stream.vertices(patch)
         GL.glDrawArrays(GL.GL_TRIANGLE_FAN, 0, n)
 
