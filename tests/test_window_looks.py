@@ -53,3 +53,22 @@ def test_shift_t_without_visuals_and_theme_from_the_command_line(app: Any) -> No
     finally:
         win.close()
         win.deleteLater()
+
+
+def test_a_moving_camera_draws_without_msaa_and_the_still_view_with_it(app: Any) -> None:  # noqa: F811
+    from PyQt5.QtTest import QTest
+
+    win = open_window(app, "--robot", "planar3", "--q", "30,30,30")
+    try:
+        still = grab(win)
+        press(app, Qt.Key_Left)  # the camera orbits
+        app.processEvents()  # its paint
+        assert win.view.last_samples == 0 and win.view.refine.isActive()
+        QTest.qWait(3 * win.view.refine.interval())
+        app.processEvents()
+        assert win.view.last_samples == win.session.options.samples > 1  # the still view, and the session keeps MSAA
+        press(app, Qt.Key_Right)  # back where it was; a grab now is drawn with MSAA at once
+        assert changed_pixels(grab(win), still) == 0 and win.view.last_samples > 1
+    finally:
+        win.close()
+        win.deleteLater()

@@ -110,6 +110,7 @@ WHEEL_ZOOM_FACTOR = 1.1              # per wheel notch (120 eighths of a degree)
 TARGET_STEP_M = 0.02                 # per I/K/J/L/U/O press
 TARGET_STEP_DEG = 5.0                # per Shift+I/K/J/L/U/O press
 ANIM_INTERVAL_MS = 16                # animation / demo timer period
+REFINE_AFTER_MS = 150                # the still view is repainted with MSAA this long after the camera's last move
 
 # Workspace cloud
 WORKSPACE_DEFAULT_POINTS = 200_000

@@ -13,6 +13,7 @@ opened (``simulator.launch``), so ``--screenshot`` never loads Qt.  The window s
 """
 from __future__ import annotations
 
+import copy
 import functools
 import math
 import sys
@@ -123,7 +124,12 @@ class GLView(QtWidgets.QOpenGLWidget):
     """GL widget: paints the simulation with its :class:`graphics.View` (the scene's items
     and their GL objects, released when Qt destroys the widget's context), turns the
     mouse into camera and target moves, carries the view information overlay and
-    measures the frame rate over actual paints."""
+    measures the frame rate over actual paints.
+
+    While the camera moves (orbit, pan, zoom, follow) frames are drawn without
+    multisampling, which costs llvmpipe half of a frame; ``REFINE_AFTER_MS`` after the
+    last move the still view is painted again with it.  Grabs of the picture
+    (:meth:`grabFramebuffer`, the P screenshot) are always drawn with it."""
 
     def __init__(self, window: "MainWindow") -> None:
         super().__init__(window)
@@ -138,6 +144,13 @@ class GLView(QtWidgets.QOpenGLWidget):
         self.drag_pos: QtCore.QPoint | None = None
         self.framed = False
         self.scene_view = go.View()
+        self.last_view: bytes | None = None  # the camera of the last paint
+        self.last_samples = 0  # the multisampling the last paint was drawn with
+        self.grabbing = False  # a grab is painting: full quality
+        self.refine = QtCore.QTimer(self)
+        self.refine.setSingleShot(True)
+        self.refine.setInterval(qs.REFINE_AFTER_MS)
+        self.refine.timeout.connect(self.update)
         self.setFocusPolicy(Qt.StrongFocus)
         self.setMinimumSize(160, 120)
 
@@ -175,9 +188,31 @@ class GLView(QtWidgets.QOpenGLWidget):
         scene = sim.scene()
         if self.window_.trail is not None:
             scene.trail = self.window_.trail.points()
-        self.scene_view.render(sim.camera, scene, sim.options, width, height)  # errors: @guarded
+        self.scene_view.render(sim.camera, scene, self.frame_options(width, height), width, height)  # errors: @guarded
         self.paint_times.append(time.monotonic())
         self.window_.refresh_status()
+
+    def frame_options(self, width: int, height: int) -> go.GraphicsOptions:
+        """The session's options, without multisampling while the camera moves (its view
+        differs from the last paint's; the refine timer then paints the still view)."""
+        camera, options = self.window_.session.camera, self.window_.session.options
+        view = camera.view_matrix().tobytes() + camera.projection_matrix(width / max(height, 1)).tobytes()
+        moving, self.last_view = view != self.last_view, view
+        if not moving or options.samples <= 1 or self.grabbing:
+            self.last_samples = options.samples
+            return options
+        self.refine.start()
+        fast = copy.copy(options)
+        fast.samples = self.last_samples = 0
+        return fast
+
+    def grabFramebuffer(self) -> QtGui.QImage:  # noqa: N802 - Qt's name
+        """The picture, drawn now with the session's multisampling even while moving."""
+        self.grabbing = True
+        try:
+            return super().grabFramebuffer()
+        finally:
+            self.grabbing = False
 
     @guarded
     def resizeGL(self, width: int, height: int) -> None:
@@ -920,7 +955,11 @@ class MainWindow(QtWidgets.QMainWindow):
             return
         buffer = QtCore.QBuffer()
         buffer.open(QtCore.QIODevice.WriteOnly)
-        picture = self.view.grab().toImage()  # the GL picture with its corner information
+        self.view.grabbing = True  # full quality even mid-orbit
+        try:
+            picture = self.view.grab().toImage()  # the GL picture with its corner information
+        finally:
+            self.view.grabbing = False
         picture.setText("Software", APP_NAME)
         picture.setText("Source", f"{APP_NAME} window: {self.windowTitle()}")  # what it shows, as it shows it
         picture.save(buffer, "PNG")
