@@ -1,0 +1,117 @@
+"""Shortcutting and smoothing of a free joint-space polyline, keeping it free.
+
+* :func:`shortcut` removes waypoints whose neighbours see each other and replaces random
+  stretches by straight edges (Hauser & Ng-Thow-Hing's random shortcutting), each new
+  edge checked at the checker's continuous resolution.
+* :func:`smooth` makes the path one that :func:`retime` can follow without stopping: the
+  cubic spline through the waypoints (:class:`JointSpline`) is checked at the same
+  resolution; where it collides or leaves the joint limits, waypoints are added on the
+  polyline (pulling the spline onto it), and a span that still fails becomes a straight
+  edge with a stop at both ends (a repeated waypoint).
+
+Joint values in rad or m.  No Qt, no OpenGL.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robot_defs import RobotParams
+from robot_sim.planning.edges import COARSE_STRIDE, CheckCounter
+from robot_sim.planning.spline import JointSpline
+
+FloatArray = NDArray[np.float64]
+
+#: Random shortcut attempts (a fixed count, so a seed gives one path).
+SHORTCUT_ATTEMPTS = 30
+#: Rounds of adding waypoints to a colliding spline span before it becomes a straight edge.
+SMOOTH_ROUNDS = 4
+#: Trial spacing along the spline [rad or m] from which the check spacing is set, and the
+#: margin of that spacing over the chord's sweep (the arc is a little longer than its chord).
+TRIAL_SPACING = 0.05
+ARC_MARGIN = 1.25
+
+
+def _prune(counter: CheckCounter, P: FloatArray) -> FloatArray:
+    """Greedy vertex removal: from each kept waypoint, jump to the farthest one in sight."""
+    keep, i = [0], 0
+    while i < P.shape[0] - 1:
+        far = np.arange(P.shape[0] - 1, i + 1, -1)
+        free = counter.edges_free(np.repeat(P[i : i + 1], far.shape[0], axis=0), P[far]) if far.size else []
+        hit = np.flatnonzero(free)
+        i = int(far[hit[0]]) if hit.size else i + 1
+        keep.append(i)
+    return P[keep]
+
+
+def shortcut(counter: CheckCounter, path: FloatArray, rng: np.random.Generator,
+             attempts: int = SHORTCUT_ATTEMPTS) -> FloatArray:
+    """``path`` (K, n), a free polyline, made shorter: waypoints pruned, then ``attempts``
+    random shortcuts between two points on different edges, then pruned again."""
+    P = _prune(counter, path)
+    for _ in range(attempts):
+        if P.shape[0] < 3:
+            break
+        cum = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
+        ta, tb = np.sort(rng.random(2) * cum[-1])
+        ia = min(int(np.searchsorted(cum, ta, side="right")) - 1, P.shape[0] - 2)
+        ib = min(int(np.searchsorted(cum, tb, side="right")) - 1, P.shape[0] - 2)
+        if ia == ib:
+            continue
+        pa = P[ia] + (P[ia + 1] - P[ia]) * ((ta - cum[ia]) / (cum[ia + 1] - cum[ia]))
+        pb = P[ib] + (P[ib + 1] - P[ib]) * ((tb - cum[ib]) / (cum[ib + 1] - cum[ib]))
+        if counter.edges_free(pa[None], pb[None])[0]:
+            P = np.concatenate([P[: ia + 1], pa[None], pb[None], P[ib + 1 :]])
+    return _prune(counter, P)
+
+
+def spline_samples(counter: CheckCounter, spline: JointSpline) -> tuple[FloatArray, FloatArray]:
+    """Path parameters (M,) along ``spline`` such that no point of the arm moves more than
+    the checker's resolution between two of them, and the configurations there (M, n)."""
+    s = spline.samples(TRIAL_SPACING)
+    q, _, _ = spline.evaluate(s)
+    m = counter.steps(np.diff(q, axis=0) * ARC_MARGIN)
+    parts = [s[:1]] + [np.linspace(a, b, k + 1)[1:] for a, b, k in zip(s[:-1], s[1:], m)]
+    dense = np.concatenate(parts)
+    return dense, spline.evaluate(dense)[0]
+
+
+def _failing_spans(counter: CheckCounter, robot: RobotParams, spline: JointSpline) -> NDArray[np.int64]:
+    """Knot spans (indices) of ``spline`` where it collides or leaves the joint limits."""
+    s, Q = spline_samples(counter, spline)
+    bad = np.any((Q < robot.q_min) | (Q > robot.q_max), axis=1)
+    if not bad.any():
+        knot = np.arange(Q.shape[0]) % COARSE_STRIDE == 0
+        knot[-1] = True
+        bad = counter.along(Q, knot)
+    span = np.clip(np.searchsorted(spline.knots, s[bad], side="right") - 1, 0, spline.knots.shape[0] - 2)
+    return np.unique(span)
+
+
+def _refined(P: FloatArray, spans: NDArray[np.int64]) -> FloatArray:
+    """``P`` with the points at 1/4 and 3/4 of each listed span inserted (on the polyline)."""
+    rows = []
+    for k in range(P.shape[0]):
+        rows.append(P[k])
+        if k in spans:
+            d = P[k + 1] - P[k]
+            rows += [P[k] + 0.25 * d, P[k] + 0.75 * d]
+    return np.array(rows)
+
+
+def smooth(counter: CheckCounter, robot: RobotParams, path: FloatArray) -> FloatArray:
+    """Waypoints (K', n) whose spline (:class:`JointSpline`, cut at repeated waypoints) is
+    free and within the limits; the polyline through them is ``path``'s (a free polyline)."""
+    queue: list[tuple[FloatArray, int]] = [(np.asarray(path, dtype=float), 0)]  # (piece, rounds), in order
+    done: list[FloatArray] = []
+    while queue:
+        piece, tries = queue.pop(0)
+        spans = _failing_spans(counter, robot, JointSpline.through(piece)) if piece.shape[0] > 2 else ()
+        if not len(spans):
+            done.append(piece)
+        elif tries < SMOOTH_ROUNDS:
+            queue.insert(0, (_refined(piece, spans), tries + 1))
+        else:  # still failing: cut at both ends of every failing span (straight, free edges)
+            cuts = sorted({0, piece.shape[0] - 1} | set(spans.tolist()) | set((spans + 1).tolist()))
+            queue[:0] = [(piece[a : b + 1], tries) for a, b in zip(cuts[:-1], cuts[1:])]
+    return np.concatenate(done)
