@@ -12,8 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from kinematics import forward_kinematics
-from robot_defs import RobotParams
+from robot_sim.kinematics import forward_kinematics
+from robot_sim.model.params import RobotParams
 
 BALL_RADIUS = 0.04
 

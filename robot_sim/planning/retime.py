@@ -8,7 +8,7 @@ rest).  Along it, :mod:`robot_sim.planning.topp` finds the fastest time law s(t)
 * joint speed |q'(s) ṡ| <= v_max,
 * joint acceleration |q'(s) s̈ + q''(s) ṡ²| <= a_max,
 * with ``effort``, joint torque |τ| <= the drives' effort limits, τ from
-  :func:`dynamics.inverse_dynamics` (gravity, reflected motor inertia and friction
+  :func:`robot_sim.dynamics.inverse_dynamics` (gravity, reflected motor inertia and friction
   included): τ = A(s) s̈ + B(s) ṡ² + V(s) ṡ + C(s).
 
 The time law is exact between grid points (s̈ constant on each), so q, q̇ = q' ṡ and
@@ -24,12 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from _joint_profiles import check_in_limits, positive_vector
-from _traj_value import Trajectory, sample_times
-from robot_defs import RobotParams
+from robot_sim.dynamics import gravity_torque, inverse_dynamics
+from robot_sim.model.params import RobotParams
+from robot_sim.planning.cartesian import qd_limits
+from robot_sim.planning.profiles import check_in_limits, positive_vector
 from robot_sim.planning.spline import DUPLICATE_TOL, JointSpline
 from robot_sim.planning.topp import InfeasiblePath, Rows, solve
-from trajectory import qd_limits
+from robot_sim.planning.trajectory import Trajectory, sample_times
 
 FloatArray = NDArray[np.float64]
 
@@ -55,7 +56,7 @@ SLOWDOWN_ROUNDS = 6
 
 def qdd_limits(robot: RobotParams) -> FloatArray:
     """Default joint acceleration limits (n,) [rad/s² or m/s²]: each joint's speed limit
-    (:func:`trajectory.qd_limits`) reached from rest in ACCEL_TIME seconds."""
+    (:func:`robot_sim.planning.cartesian.qd_limits`) reached from rest in ACCEL_TIME seconds."""
     return qd_limits(robot) / ACCEL_TIME
 
 
@@ -67,23 +68,21 @@ def _effort_limits(robot: RobotParams) -> FloatArray:
 def _dynamics_terms(robot: RobotParams, q: FloatArray, dq: FloatArray, ddq: FloatArray) -> tuple[FloatArray, ...]:
     """A, B, V, C (M, n) of τ = A s̈ + B ṡ² + V ṡ + C along the path (C: gravity and the
     Coulomb friction for ṡ > 0, none at the first and last point, where the arm is at rest)."""
-    import dynamics  # only when effort limits are asked for
-
     zero = np.zeros_like(q)
     g0 = np.zeros(3)
-    A = dynamics.inverse_dynamics(robot, q, zero, dq, gravity=g0)
-    Mpp = dynamics.inverse_dynamics(robot, q, zero, ddq, gravity=g0)
-    f1 = dynamics.inverse_dynamics(robot, q, dq, zero, gravity=g0)  # Q + V + K
+    A = inverse_dynamics(robot, q, zero, dq, gravity=g0)
+    Mpp = inverse_dynamics(robot, q, zero, ddq, gravity=g0)
+    f1 = inverse_dynamics(robot, q, dq, zero, gravity=g0)  # Q + V + K
     drives = robot.drives
     if drives is not None and (np.any(drives.viscous) or np.any(drives.coulomb)):
-        f2 = dynamics.inverse_dynamics(robot, q, 2 * dq, zero, gravity=g0)
-        f3 = dynamics.inverse_dynamics(robot, q, 3 * dq, zero, gravity=g0)
+        f2 = inverse_dynamics(robot, q, 2 * dq, zero, gravity=g0)
+        f3 = inverse_dynamics(robot, q, 3 * dq, zero, gravity=g0)
         Q = (f3 - 2 * f2 + f1) / 2
         V = f2 - f1 - 3 * Q
         K = f1 - Q - V
     else:
         Q, V, K = f1, zero, zero
-    C = dynamics.gravity_torque(robot, q) + K
+    C = gravity_torque(robot, q) + K
     C[[0, -1]] -= K[[0, -1]]  # the path starts and ends at rest: no Coulomb friction there
     return A, Mpp + Q, V, C
 
@@ -142,15 +141,13 @@ def _sampled(spline: JointSpline, s: FloatArray, x: FloatArray, u: FloatArray, d
 def _ratios(robot: RobotParams | None, q: FloatArray, qd: FloatArray, qdd: FloatArray,
             vmax: FloatArray, amax: FloatArray, tmax: FloatArray) -> FloatArray:
     """(3, M): per sample the largest |q̇|/v_max, |q̈|/a_max and |τ|/τ_max over the joints
-    (τ of :func:`dynamics.inverse_dynamics`; 0 without effort limits)."""
+    (τ of :func:`robot_sim.dynamics.inverse_dynamics`; 0 without effort limits)."""
     out = np.zeros((3, q.shape[0]))
     out[0] = np.max(np.abs(qd) / vmax, axis=1)
     out[1] = np.max(np.abs(qdd) / amax, axis=1)
     limited = np.isfinite(tmax)
     if robot is not None and limited.any():
-        import dynamics
-
-        tau = dynamics.inverse_dynamics(robot, q, qd, qdd)
+        tau = inverse_dynamics(robot, q, qd, qdd)
         out[2] = np.max(np.abs(tau[:, limited]) / tmax[limited], axis=1)
     return out
 
@@ -211,7 +208,7 @@ def retime(robot: RobotParams, path: ArrayLike, *, v_max: ArrayLike | None = Non
 
     The geometry is the not-a-knot cubic spline through the waypoints by chord length
     (:class:`JointSpline`), cut and brought to rest at repeated waypoints.  Limits are
-    (n,) or scalars; None takes :func:`trajectory.qd_limits` and :func:`qdd_limits`.
+    (n,) or scalars; None takes :func:`robot_sim.planning.cartesian.qd_limits` and :func:`qdd_limits`.
     Sampled at most ``dt`` s apart, the last sample at the end.  ValueError for bad input
     (shape, NaN, waypoints outside the joint limits, non-positive limits or dt) or a path
     no time law can follow (:class:`InfeasiblePath`: e.g. gravity alone beyond an effort

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from _joint_profiles import joint_vector
-from kinematics import sampling_bounds
-from robot_defs import RobotParams
+from robot_sim.kinematics import sampling_bounds
+from robot_sim.model.params import RobotParams
 from robot_sim.planning.edges import CheckCounter, Checker
+from robot_sim.planning.profiles import joint_vector
 from robot_sim.planning.smoothing import shortcut, smooth
 
 FloatArray = NDArray[np.float64]

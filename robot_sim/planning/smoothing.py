@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_defs import RobotParams
+from robot_sim.model.params import RobotParams
 from robot_sim.planning.edges import COARSE_STRIDE, CheckCounter
 from robot_sim.planning.spline import JointSpline
 
