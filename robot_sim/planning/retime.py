@@ -152,6 +152,25 @@ def _ratios(robot: RobotParams | None, q: FloatArray, qd: FloatArray, qdd: Float
     return out
 
 
+def _explained(exc: InfeasiblePath, spline: JointSpline, s: FloatArray, terms: "_PathTerms",
+               tmax: FloatArray, limited: NDArray[np.bool_]) -> InfeasiblePath:
+    """``exc`` with where it happens on the path and, if a joint cannot even hold still
+    there (gravity and friction beyond its effort limit), which one."""
+    i = min(exc.index, s.shape[0] - 1)
+    seg = int(np.clip(np.searchsorted(spline.knots, s[i], side="right") - 1, 0, spline.knots.shape[0] - 2))
+    where = f"at path parameter s = {s[i]:.4g} of {spline.length:.4g} (between waypoints {seg} and {seg + 1})"
+    why = str(exc)
+    if terms.torque is not None:
+        static = np.abs(terms.torque[3][i])  # gravity and Coulomb friction at rest
+        joints = np.flatnonzero(limited)
+        over = np.flatnonzero(static > tmax[limited])
+        if over.size:
+            j = int(over[0])
+            why = (f"joint {joints[j] + 1} needs {static[j]:.4g} N·m (or N) against gravity and friction alone, "
+                   f"above its effort limit {tmax[joints[j]]:.4g}")
+    return InfeasiblePath(f"retime: no time law follows the path {where}: {why}", i)
+
+
 def _refined(s: FloatArray, cells: NDArray[np.int64]) -> FloatArray:
     """The grid ``s`` with each listed interval cut into REFINE_SPLIT equal ones."""
     cells = np.unique(cells)
@@ -170,7 +189,10 @@ def _retime_piece(spline: JointSpline, vmax: FloatArray, amax: FloatArray, tmax:
     limited = np.isfinite(tmax)
     for rnd in range(REFINE_ROUNDS + 1):
         terms = _PathTerms.at(spline, s, robot, limited)
-        x, u = solve(terms.rows(vmax, amax, tmax[limited]), np.diff(s))
+        try:
+            x, u = solve(terms.rows(vmax, amax, tmax[limited]), np.diff(s))
+        except InfeasiblePath as exc:
+            raise _explained(exc, spline, s, terms, tmax, limited) from None
         t, ss, q, qd, qdd = _sampled(spline, s, x, u, dt)
         act = _ratios(robot, q, qd, qdd, vmax, amax, tmax).max(axis=0)
         poor = (act < 1.0 - ACTIVE_TOL) | (act > 1.0 + LIMIT_RTOL)

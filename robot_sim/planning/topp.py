@@ -153,11 +153,11 @@ def controllable_sets(rows: Rows, ds: FloatArray, x_ref: FloatArray) -> tuple[Fl
     ``ds`` (N,) grid steps; ``x_ref`` (N+1,) where √x is linearised from above."""
     N = ds.shape[0]
     pU, qU, pL, qL, xhi, xlo = _interval_lines(rows, ds, x_ref, exact_own=False).split()
-    hi0 = np.minimum(np.minimum(xhi, rows.x_max[:N]), np.inf)
+    hi0 = np.minimum(xhi, rows.x_max[:N])
     lo0 = np.maximum(xlo, 0.0)
     s_hi = _gap_root(pU, qU, pL, qL, hi0, upward=False)
     s_lo = _gap_root(pU, qU, pL, qL, lo0, upward=True)
-    bad = np.flatnonzero(s_lo > s_hi + EMPTY_TOL * np.maximum(1.0, np.abs(s_hi)))
+    bad = np.flatnonzero(~(s_lo <= s_hi + EMPTY_TOL * np.maximum(1.0, np.abs(np.nan_to_num(s_hi)))))
     if bad.size:
         raise InfeasiblePath(f"no feasible speed at grid point {bad[-1]}", int(bad[-1]))
     # bounds involving K_{i+1}: lower lines below (hi - x)h, upper lines above (lo - x)h
@@ -198,6 +198,8 @@ def controllable_sets(rows: Rows, ds: FloatArray, x_ref: FloatArray) -> tuple[Fl
                 raise InfeasiblePath(f"no feasible speed at grid point {i}", i)
             xl = xh
         lo[i], hi[i] = lo_next, hi_next = xl, xh
+        if hi_next <= 0.0 and i > 0:
+            raise InfeasiblePath(f"the path can only be followed by stopping at grid point {i}", i)
     return lo, hi
 
 
