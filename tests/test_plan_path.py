@@ -9,6 +9,7 @@ import pytest
 from kin_helpers import robot
 from plan_helpers import BallArmChecker
 from robot_sim.kinematics import forward_kinematics, random_configurations
+from robot_sim.planning.pose_goal import ik_branches, plan_to_pose
 from robot_sim.planning.rrt import plan_path
 from robot_sim.planning.spline import JointSpline
 
@@ -137,3 +138,26 @@ def test_malformed_arguments_raise():
         plan_path(arm, np.zeros(6), np.full(6, np.nan), checker)
     with pytest.raises(ValueError, match="time_limit"):
         plan_path(arm, np.zeros(6), np.zeros(6), checker, time_limit=0.0)
+
+
+def test_plan_to_pose_ends_at_the_pose_on_a_collision_free_branch():
+    arm = robot("ur5")
+    checker = BallArmChecker(arm, boxes=[WALL])
+    A, B = sides_of_the_wall(arm, checker, np.random.default_rng(1))
+    qa, qb = next((a, b) for a, b in zip(A, B) if not fine_free(checker, np.stack([a, b]))[0])
+    target = forward_kinematics(arm, qb)
+    res = plan_to_pose(arm, qa, target, checker, time_limit=20.0)
+    assert res.success, res.message
+    np.testing.assert_allclose(forward_kinematics(arm, res.path[-1]), target, atol=1e-6)
+    assert fine_free(checker, res.path)[0]
+    # the branches are free, distinct and nearest first
+    branches = ik_branches(arm, target, qa, checker)
+    assert len(branches) >= 2
+    assert not checker.in_collision(np.array(branches)).any()
+    d = [np.linalg.norm(q - qa) for q in branches]
+    assert d == sorted(d)
+    # a pose inside the wall has no free branch
+    inside = target.copy()
+    inside[:3, 3] = (WALL[0] + WALL[1]) / 2
+    res = plan_to_pose(arm, qa, inside, checker)
+    assert not res.success and "no collision-free IK solution" in res.message

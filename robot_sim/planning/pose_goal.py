@@ -1,0 +1,76 @@
+"""Planning to a tool pose: :func:`plan_to_pose` (collision-free IK branches, then
+:func:`plan_path` to the nearest one that can be reached).
+
+World frame, tool pose 4×4 (or HomogeneousTransform), joint values in rad or m.
+No Qt, no OpenGL.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.kinematics import random_configurations, solve_ik
+from robot_sim.model.params import RobotParams
+from robot_sim.planning.edges import Checker
+from robot_sim.planning.profiles import joint_vector
+from robot_sim.planning.rrt import PathResult, plan_path
+
+FloatArray = NDArray[np.float64]
+
+#: IK descents tried (the first from the start configuration, the others from random
+#: ones), and the most distinct solutions (branches) kept.
+IK_ATTEMPTS = 12
+MAX_BRANCHES = 6
+#: Two IK solutions closer than this (joint-space distance, rad or m) are one branch.
+SAME_BRANCH = 1e-3
+
+
+def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, checker: Checker, *,
+                seed: int | None = 0, tol: float = 1e-6) -> list[FloatArray]:
+    """Distinct collision-free IK solutions of ``target`` within the limits, nearest to
+    ``q_start`` first (joint-space distance)."""
+    rng = np.random.default_rng(seed)
+    starts = np.vstack([q_start, random_configurations(robot, IK_ATTEMPTS - 1, rng)])
+    found: list[FloatArray] = []
+    for k, q0 in enumerate(starts):
+        res = solve_ik(robot, target, q0, tol_pos=tol, tol_rot=tol, max_restarts=2, seed=k)
+        if not res.success or any(np.linalg.norm(res.q - q) < SAME_BRANCH for q in found):
+            continue
+        if not np.asarray(checker.in_collision(res.q[None]), dtype=bool)[0]:
+            found.append(res.q)
+        if len(found) >= MAX_BRANCHES:
+            break
+    return sorted(found, key=lambda q: float(np.linalg.norm(q - q_start)))
+
+
+def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, checker: Checker, *,
+                 time_limit: float = 1.0, seed: int | None = 0) -> PathResult:
+    """A collision-free joint path from ``q_start`` to a configuration that puts the tool
+    at ``target_tf`` (world, 4×4).
+
+    Several IK branches (:func:`ik_branches`: descents from the start and from random
+    configurations, those in collision dropped) are tried nearest first, each with
+    :func:`plan_path` and the time left of ``time_limit`` [s]; the first that plans wins.
+    ``success=False`` with a message when no branch is found or none can be reached.
+    """
+    t0 = time.perf_counter()
+    qs = joint_vector("q_start", q_start, robot.n_dofs)
+    branches = ik_branches(robot, target_tf, qs, checker, seed=seed)
+    if not branches:
+        return PathResult(False, np.zeros((0, robot.n_dofs)), "no collision-free IK solution of the target pose "
+                          f"within the joint limits ({IK_ATTEMPTS} descents)", time.perf_counter() - t0, 0)
+    checks, reasons = 0, []
+    for k, goal in enumerate(branches):
+        left = time_limit - (time.perf_counter() - t0)
+        if left <= 0.0:
+            break
+        res = plan_path(robot, qs, goal, checker, time_limit=left, seed=seed)
+        checks += res.checks
+        if res.success:
+            return PathResult(True, res.path, f"IK branch {k + 1} of {len(branches)}: {res.message}",
+                              time.perf_counter() - t0, checks)
+        reasons.append(f"branch {k + 1}: {res.message}")
+    return PathResult(False, np.zeros((0, robot.n_dofs)), "no IK branch reachable: " + "; ".join(reasons),
+                      time.perf_counter() - t0, checks)
