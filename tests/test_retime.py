@@ -9,8 +9,8 @@ import pytest
 
 from kin_helpers import robot
 from robot_sim.dynamics import inverse_dynamics
-from robot_sim.planning.cartesian import qd_limits
-from robot_sim.planning.retime import qdd_limits, retime
+from robot_sim.planning.cartesian import qd_limits, qdd_limits
+from robot_sim.planning.retime import retime
 from robot_sim.planning.spline import JointSpline
 from robot_sim.planning.topp import InfeasiblePath
 

@@ -6,7 +6,7 @@ world (4×4), positions in metres, angles in radians, times in seconds.
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.planning.profiles import _parabolic, check_duration, joint_vector, plan_times
 from robot_sim.planning.trajectory import FloatArray, Trajectory
@@ -25,18 +25,24 @@ SINGULAR_SIGMA = 1e-3
 FOLLOW_TOL = 1e-9
 FOLLOW_MAX_ITER = 60
 SCALINGS = ("quintic", "trapezoidal")
+#: Default acceleration limit: a joint reaches its speed limit from rest in this time [s].
+ACCEL_TIME = 0.2
+#: A joint this close to a limit it was not at before has reached it [rad or m].
+LIMIT_REACHED = 1e-9
 
 
 class CartesianPathError(ValueError):
     """A Cartesian path cannot be followed.  ``sample`` is the first sample that fails,
     ``time`` its time [s], ``pose`` its target (4×4), ``reason`` why (out of reach, singular,
-    a joint limit, a joint speed above its limit), and ``trajectory`` the motion up to the
-    last reachable sample (None if the first sample already fails)."""
+    a joint reaching its limit, a joint speed or acceleration above its limit), ``joint``
+    the joint concerned (0-based; None when no single joint is), and ``trajectory`` the
+    motion up to the last good sample (None if the first sample already fails)."""
 
     def __init__(self, message: str, sample: int, time: float, pose: FloatArray, reason: str,
-                 trajectory: Trajectory | None) -> None:
+                 trajectory: Trajectory | None, joint: int | None = None) -> None:
         super().__init__(message)
         self.sample, self.time, self.pose, self.reason, self.trajectory = sample, time, pose, reason, trajectory
+        self.joint = joint
 
 
 def time_scaling(kind: str, duration: float, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -74,6 +80,13 @@ def qd_limits(robot: RobotParams) -> FloatArray:
     return np.where(np.isfinite(limit), limit, default)
 
 
+def qdd_limits(robot: RobotParams) -> FloatArray:
+    """Joint acceleration limits (n,) [rad/s² or m/s²]: each joint's speed limit
+    (:func:`qd_limits`) reached from rest in ACCEL_TIME seconds (robot files give no
+    acceleration limits)."""
+    return qd_limits(robot) / ACCEL_TIME
+
+
 def _describe(pose: FloatArray) -> str:
     rpy = np.degrees(rpy_from_rot(pose[:3, :3]))
     return f"tool at xyz [{', '.join(f'{v:.4f}' for v in pose[:3, 3])}] m, rpy [{', '.join(f'{v:.2f}' for v in rpy)}] deg"
@@ -103,52 +116,74 @@ def _partial(t: FloatArray, q: FloatArray, poses: FloatArray) -> Trajectory:
 
 
 def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLike,
-                 qd_max: ArrayLike | None = None) -> Trajectory:
+                 qd_max: ArrayLike | None = None, qdd_max: ArrayLike | None = None) -> Trajectory:
     """Joint motion that puts the tool at ``poses`` (N, 4, 4) at times ``t`` (N,).
 
     Each sample is solved by :func:`kinematics.solve_ik` from the previous sample's
-    solution continued by the last joint step (the first from ``q0``) without random restarts, so the joint path stays on
-    one branch.  q̇ and q̈ are finite differences of q (second order).  Raises
-    :class:`CartesianPathError` at the first sample whose IK fails (out of reach, singular,
-    joint limit) or whose joint step exceeds ``qd_max`` [rad/s, m/s] × the time step
-    (default :func:`qd_limits`): a branch flip or a singularity; the error holds the motion
-    up to the last reachable sample.
+    solution continued by the last joint step (the first from ``q0``) without random
+    restarts, so the joint path stays on one branch.  q̇ and q̈ are finite differences of
+    q (second order).  Raises :class:`CartesianPathError`, naming the sample, its time and
+    the joint, at the first sample whose IK fails (out of reach, singular), where a joint
+    reaches one of its limits (the IK would hold it there while the others compensate: a
+    stop within one sample), whose joint step exceeds ``qd_max`` [rad/s, m/s] × the time
+    step (default :func:`qd_limits`: a branch flip or a singularity), or, once every sample
+    is solved, where a joint accelerates beyond ``qdd_max`` [rad/s², m/s²] (default
+    :func:`qdd_limits`); the error holds the motion up to the last good sample.
     """
     t = np.asarray(t, dtype=float)
     P = np.asarray(poses, dtype=float)
     q_prev = joint_vector("q0", q0, robot.n_dofs)
     vmax = qd_limits(robot) if qd_max is None else joint_vector("qd_max", qd_max, robot.n_dofs)
+    amax = qdd_limits(robot) if qdd_max is None else joint_vector("qdd_max", qdd_max, robot.n_dofs)
+
+    def fail(k: int, reason: str, joint: int | None, Q: FloatArray) -> CartesianPathError:
+        partial = _partial(t[:k], Q[:k], P[:k]) if k > 0 else None
+        stop = f"stopped at sample {k - 1}" if k > 0 else "nothing moved"
+        return CartesianPathError(
+            f"Cartesian path cannot be followed at sample {k} of {t.shape[0]} "
+            f"(t = {t[k]:.4f} s, {_describe(P[k])}): {reason}; {stop}",
+            k, float(t[k]), P[k].copy(), reason, partial, joint)
+
+    def at_limit(q: FloatArray) -> NDArray[np.bool_]:
+        return (q <= robot.q_min + LIMIT_REACHED) | (q >= robot.q_max - LIMIT_REACHED)
+
     Q = np.empty((t.shape[0], robot.n_dofs))
+    was_at = at_limit(q_prev)
     for k in range(t.shape[0]):
         # predictor: continue the last joint step (fewer IK iterations); stays a seed only
         seed = q_prev if k < 2 else q_prev + (q_prev - Q[k - 2]) * ((t[k] - t[k - 1]) / (t[k - 1] - t[k - 2]))
         seed = np.clip(seed, robot.q_min, robot.q_max)
         res = solve_ik(robot, P[k], seed, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
                        tol_pos=FOLLOW_TOL, tol_rot=FOLLOW_TOL)
-        reason = None
         if not res.success:
-            reason = _why(robot, q_prev, res)
-        elif k > 0:
+            raise fail(k, _why(robot, q_prev, res), None, Q)
+        reached = np.flatnonzero(at_limit(res.q) & ~was_at)
+        if reached.size:
+            j = int(reached[0])
+            raise fail(k, f"joint {j + 1} reaches its limit ({res.q[j]:.6g} in "
+                          f"[{robot.q_min[j]:.6g}, {robot.q_max[j]:.6g}])", j, Q)
+        if k > 0:
             speed = np.abs(res.q - q_prev) / (t[k] - t[k - 1])
             j = int(np.argmax(speed / vmax))
             if speed[j] > vmax[j]:
                 unit = "rad/s" if robot.is_revolute[j] else "m/s"
-                reason = (f"joint {j + 1} would move at {speed[j]:.3g} {unit}, above its limit "
-                          f"{vmax[j]:.3g} {unit} (branch flip or singularity)")
-        if reason is not None:
-            partial = _partial(t[:k], Q[:k], P[:k]) if k > 0 else None
-            stop = f"stopped at sample {k - 1}" if k > 0 else "nothing moved"
-            raise CartesianPathError(
-                f"Cartesian path cannot be followed at sample {k} of {t.shape[0]} "
-                f"(t = {t[k]:.4f} s, {_describe(P[k])}): {reason}; {stop}",
-                k, float(t[k]), P[k].copy(), reason, partial)
+                raise fail(k, f"joint {j + 1} would move at {speed[j]:.3g} {unit}, above its limit "
+                              f"{vmax[j]:.3g} {unit} (branch flip or singularity)", j, Q)
         Q[k] = q_prev = res.q
-    return _partial(t, Q, P)
+        was_at = at_limit(q_prev)
+    traj = _partial(t, Q, P)
+    over = np.argwhere(np.abs(traj.qdd) > amax)
+    if over.size:
+        k, j = (int(v) for v in over[0])
+        unit = "rad/s²" if robot.is_revolute[j] else "m/s²"
+        raise fail(k, f"joint {j + 1} would accelerate at {abs(traj.qdd[k, j]):.3g} {unit}, above its limit "
+                      f"{amax[j]:.3g} {unit}", j, Q)
+    return traj
 
 
 def cartesian_line(robot: RobotParams, pose0: ArrayLike, pose1: ArrayLike, duration: float,
                    q0: ArrayLike, times: ArrayLike | None = None, scaling: str = "quintic",
-                   *, qd_max: ArrayLike | None = None) -> Trajectory:
+                   *, qd_max: ArrayLike | None = None, qdd_max: ArrayLike | None = None) -> Trajectory:
     """Tool moves on the straight line from ``pose0`` to ``pose1`` (world frame, 4×4 or
     HomogeneousTransform) in ``duration`` s; orientation by SLERP, R(s) = R0 exp(s log(R0ᵀR1)),
     both along the same time law s(t) (``scaling`` "quintic" or "trapezoidal", see
@@ -166,13 +201,13 @@ def cartesian_line(robot: RobotParams, pose0: ArrayLike, pose1: ArrayLike, durat
     P = np.tile(np.eye(4), (t.shape[0], 1, 1))
     P[:, :3, :3] = T0[:3, :3] @ _rotations(axis, s * angle)
     P[:, :3, 3] = T0[:3, 3] + s[:, None] * (T1[:3, 3] - T0[:3, 3])
-    return follow_poses(robot, t, P, q0, qd_max)
+    return follow_poses(robot, t, P, q0, qd_max, qdd_max)
 
 
 def cartesian_arc(robot: RobotParams, pose0: ArrayLike, centre: ArrayLike, axis: ArrayLike,
                   angle: float, duration: float, q0: ArrayLike, times: ArrayLike | None = None,
                   scaling: str = "quintic", *, turn_tool: bool = True,
-                  qd_max: ArrayLike | None = None) -> Trajectory:
+                  qd_max: ArrayLike | None = None, qdd_max: ArrayLike | None = None) -> Trajectory:
     """Tool moves on the circular arc that turns ``pose0``'s position by ``angle`` rad about
     the line through ``centre`` (m, world) along ``axis`` (right hand), in ``duration`` s.
     With ``turn_tool`` the tool's orientation turns with the arc, else it stays that of
@@ -193,7 +228,7 @@ def cartesian_arc(robot: RobotParams, pose0: ArrayLike, centre: ArrayLike, axis:
     P = np.tile(np.eye(4), (t.shape[0], 1, 1))
     P[:, :3, :3] = R @ T0[:3, :3] if turn_tool else T0[:3, :3]
     P[:, :3, 3] = c + R @ (T0[:3, 3] - c)
-    return follow_poses(robot, t, P, q0, qd_max)
+    return follow_poses(robot, t, P, q0, qd_max, qdd_max)
 
 
 def tool_poses(robot: RobotParams, traj: Trajectory) -> Trajectory:

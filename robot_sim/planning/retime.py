@@ -1,5 +1,4 @@
-"""Time-optimal retiming of a joint path: :func:`retime` and the default acceleration
-limits :func:`qdd_limits`.
+"""Time-optimal retiming of a joint path: :func:`retime`.
 
 The path's geometry is the spline of :mod:`robot_sim.planning.spline` through its
 waypoints (a waypoint given twice is a stop: the spline is cut there and the arm comes to
@@ -26,7 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.dynamics import gravity_torque, inverse_dynamics
 from robot_sim.model.params import RobotParams
-from robot_sim.planning.cartesian import qd_limits
+from robot_sim.planning.cartesian import qd_limits, qdd_limits
 from robot_sim.planning.profiles import check_in_limits, positive_vector
 from robot_sim.planning.spline import DUPLICATE_TOL, JointSpline
 from robot_sim.planning.topp import InfeasiblePath, Rows, solve
@@ -34,8 +33,6 @@ from robot_sim.planning.trajectory import Trajectory, sample_times
 
 FloatArray = NDArray[np.float64]
 
-#: Default acceleration limit: a joint reaches its speed limit from rest in this time [s].
-ACCEL_TIME = 0.2
 #: First grid of the reachability analysis: about this step along the path [rad or m],
 #: between MIN_GRID and MAX_GRID intervals.
 GRID_STEP = 0.002
@@ -52,12 +49,6 @@ ACTIVE_TOL = 2e-2
 #: Rounds of slowing the law down uniformly until the samples between grid points meet
 #: the limits too (the excess there is of the order of the grid step squared).
 SLOWDOWN_ROUNDS = 6
-
-
-def qdd_limits(robot: RobotParams) -> FloatArray:
-    """Default joint acceleration limits (n,) [rad/s² or m/s²]: each joint's speed limit
-    (:func:`robot_sim.planning.cartesian.qd_limits`) reached from rest in ACCEL_TIME seconds."""
-    return qd_limits(robot) / ACCEL_TIME
 
 
 def _effort_limits(robot: RobotParams) -> FloatArray:
@@ -230,7 +221,8 @@ def retime(robot: RobotParams, path: ArrayLike, *, v_max: ArrayLike | None = Non
 
     The geometry is the not-a-knot cubic spline through the waypoints by chord length
     (:class:`JointSpline`), cut and brought to rest at repeated waypoints.  Limits are
-    (n,) or scalars; None takes :func:`robot_sim.planning.cartesian.qd_limits` and :func:`qdd_limits`.
+    (n,) or scalars; None takes :func:`robot_sim.planning.cartesian.qd_limits` and
+    :func:`robot_sim.planning.cartesian.qdd_limits`.
     Sampled at most ``dt`` s apart, the last sample at the end.  ValueError for bad input
     (shape, NaN, waypoints outside the joint limits, non-positive limits or dt) or a path
     no time law can follow (:class:`InfeasiblePath`: e.g. gravity alone beyond an effort
