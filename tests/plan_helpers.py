@@ -31,7 +31,7 @@ class BallArmChecker:
         r = self.robot
         lengths = np.abs(r.dh_a) + np.abs(r.dh_d)
         lengths = np.where(r.is_revolute, lengths, np.abs(r.dh_a) + np.maximum(np.abs(r.q_min), np.abs(r.q_max)))
-        tool = float(np.linalg.norm(r.endeff_tf.t()))
+        tool = float(np.linalg.norm(r.tool_tf.t()))
         beyond = np.cumsum(lengths[::-1])[::-1] + tool + self.radius
         self.sweep_radii = np.where(r.is_revolute, beyond, 1.0)
 
