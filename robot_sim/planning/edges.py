@@ -7,9 +7,9 @@ configurations (the checker's per-joint sweep radii bound the motion:
 |Δx| <= Σ_j r_j |Δq_j|).  That is the resolution of ``checker.path_is_free``, so an edge
 this module calls free is free for it too.
 
-The interpolated configurations of all edges asked about go to the checker in one
-batched call.  When the checker also gives batched signed distances, every
-``COARSE_STRIDE``-th configuration is asked for its distance first (one call), and the
+The interpolated configurations of all edges asked about go to the checker in batched
+calls: every ``COARSE_STRIDE``-th configuration is asked for its signed distance first
+(one call), and the
 configurations between two asked ones whose clearances add up to more than twice the
 sweep between them are known free without being checked (no point of the arm, and no
 pair of points, can close that gap); the others are bisected, a batched call per level
@@ -33,23 +33,37 @@ COARSE_STRIDE = 32
 class Checker(Protocol):
     """What the planner uses of a collision checker (robot_sim.collision.CollisionChecker)."""
 
-    sweep_radii: FloatArray  # (n,) m/rad or m/m: bound on point motion per unit joint motion
-    resolution: float  # m: largest point motion between two checks of a continuous path
+    padding: float  # m: a configuration closer than this to collision counts as colliding
 
     def in_collision(self, q: FloatArray) -> BoolArray | bool: ...
 
+    def distance(self, q: FloatArray) -> FloatArray | object: ...
+
     def path_is_free(self, q_path: FloatArray) -> object: ...
+
+
+def motion_bound(checker: Checker, lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, float]:
+    """(r (n,), resolution [m]): no point of the arm moves more than Σ_j r_j |Δq_j| for a
+    joint step Δq within [lo, hi], and ``checker.path_is_free`` checks configurations at
+    most the resolution apart in that bound.  A checker may give both (``sweep_radii``,
+    ``resolution``); a :class:`~robot_sim.collision.CollisionChecker` has them from its
+    lever arms and its padding (or the default step without padding)."""
+    radii = getattr(checker, "sweep_radii", None)
+    if radii is not None:
+        return np.asarray(radii, dtype=float), float(checker.resolution)
+    from robot_sim.collision.path import DEFAULT_STEP, lever_arms
+
+    arms = lever_arms(checker, np.asarray(lo, dtype=float)[None], np.asarray(hi, dtype=float)[None])[0]
+    return arms, float(checker.padding) if checker.padding > 0.0 else DEFAULT_STEP
 
 
 class CheckCounter:
     """A checker's batched queries, counted (``PathResult.checks``: configurations asked)."""
 
-    def __init__(self, checker: Checker) -> None:
+    def __init__(self, checker: Checker, lo: FloatArray, hi: FloatArray) -> None:
         self.checker = checker
-        self.radii = np.asarray(checker.sweep_radii, dtype=float)
-        self.resolution = float(checker.resolution)
+        self.radii, self.resolution = motion_bound(checker, lo, hi)
         self.padding = float(getattr(checker, "padding", 0.0))
-        self.has_distance = callable(getattr(checker, "distance", None))
         self.count = 0
 
     def colliding(self, Q: FloatArray) -> BoolArray:
@@ -78,7 +92,7 @@ class CheckCounter:
         the resolution apart; ``path`` (M,) numbers the paths (one path when None), each
         starting and ending at a ``knot`` row.
 
-        Without distances every row is checked.  With them, the knots are asked first; an
+        The knots are asked for their distances first; an
         interval between two asked rows is free if their clearances add up to more than
         twice the sweep between them (the gap cannot close: every point moves at most
         the sweep, every pair of points closes by at most twice it), otherwise its middle
@@ -86,9 +100,6 @@ class CheckCounter:
         is proven free or has no row inside.  Rows of a path known to collide, or with
         ``first_only`` beyond its first collision, are not asked (False)."""
         hit = np.zeros(Q.shape[0], dtype=bool)
-        if not self.has_distance:
-            hit[:] = self.colliding(Q)
-            return hit
         path = np.zeros(Q.shape[0], dtype=np.int64) if path is None else path
         limit = np.full(int(path[-1]) + 1, Q.shape[0])  # per path: rows from here on are not asked
         sweep = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(Q, axis=0)) @ self.radii)])

@@ -156,9 +156,11 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     limit = float(time_limit)
     if not (np.isfinite(limit) and limit > 0.0):
         raise ValueError(f"time_limit must be a positive number of seconds, got {time_limit!r}")
-    counter = CheckCounter(checker)
+    lo, hi = sampling_bounds(robot)
+    lo, hi = np.minimum(lo, np.minimum(qs, qg)), np.maximum(hi, np.maximum(qs, qg))
+    counter = CheckCounter(checker, lo, hi)
     if counter.radii.shape != (n,):
-        raise ValueError(f"checker has sweep radii for {counter.radii.shape} joints, {robot.name} has {n}")
+        raise ValueError(f"checker has lever arms for {counter.radii.shape} joints, {robot.name} has {n}")
 
     def result(ok: bool, path: FloatArray | None, message: str) -> PathResult:
         P = np.array(path if path is not None else np.zeros((0, n)), dtype=float)
@@ -176,8 +178,6 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     if counter.first_collision(qs, qg) is None:
         return result(True, np.stack([qs, qg]), "straight joint-space line is free")
 
-    lo, hi = sampling_bounds(robot)
-    lo, hi = np.minimum(lo, np.minimum(qs, qg)), np.maximum(hi, np.maximum(qs, qg))
     rng = np.random.default_rng(seed)
     raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
     if raw is None:
