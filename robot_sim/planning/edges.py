@@ -1,33 +1,38 @@
 """Straight joint-space edges and sampled paths checked at the collision checker's
 continuous resolution.
 
-An edge from ``qa`` to ``qb`` (n,) is cut into ``m`` equal steps, the smallest count for
-which no point of the arm moves more than the checker's resolution between two checked
-configurations (the checker's per-joint sweep radii bound the motion:
-|Δx| <= Σ_j r_j |Δq_j|).  That is the resolution of ``checker.path_is_free``, so an edge
-this module calls free is free for it too.
+The checker's lever arms r_j bound the motion of every point of the arm: at most
+Σ_j r_j |Δq_j| for a joint step Δq.  ``checker.path_is_free`` checks configurations no
+more than its resolution apart in that bound; an edge this module calls free is free for
+it too.
 
-The interpolated configurations of all edges asked about go to the checker in batched
-calls: every ``COARSE_STRIDE``-th configuration is asked for its signed distance first
-(one call), and the
-configurations between two asked ones whose clearances add up to more than twice the
-sweep between them are known free without being checked (no point of the arm, and no
-pair of points, can close that gap); the others are bisected, a batched call per level
-(see :meth:`CheckCounter.along`).  Nothing called free would be called colliding by
-checking every configuration.  Joint values in rad or m; no Qt, no OpenGL.
+Configurations are asked for their signed distances in batches: first every
+``COARSE_STRIDE``-th of an edge, then, level by level (one batched call per level), the
+middle of every stretch between two asked configurations that their clearances do not
+prove free.  A stretch is proven free when, for the arm against the world, the
+clearances at its ends add up to more than the motion bound between them (no point can
+close the gap), and, for the arm against itself, to more than the bound of the joints
+between the two links of each checked pair (their relative motion).  Nothing called free
+would be called colliding by checking every configuration at the resolution.  Joint
+values in rad or m; no Qt, no OpenGL.
 """
 from __future__ import annotations
 
-from typing import Protocol
+from dataclasses import dataclass
+from typing import Callable, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 BoolArray = NDArray[np.bool_]
+Rows = NDArray[np.int64]
 
 #: Configurations between two first distance queries along an edge or a sampled path.
-COARSE_STRIDE = 32
+COARSE_STRIDE = 64
+#: Coarse checks (searching) stop bisecting at stretches of this many resolutions and
+#: count an unproven one as a collision.
+COARSE_FACTOR = 16
 
 
 class Checker(Protocol):
@@ -57,6 +62,41 @@ def motion_bound(checker: Checker, lo: FloatArray, hi: FloatArray) -> tuple[Floa
     return arms, float(checker.padding) if checker.padding > 0.0 else DEFAULT_STEP
 
 
+@dataclass(frozen=True)
+class _Part:
+    """One group of checked pairs: its batched distance and the bound on how much its
+    pairs can close for joint steps (M, n) -> (M,)."""
+
+    distance: Callable[[FloatArray], FloatArray]
+    closing: Callable[[FloatArray], FloatArray]
+
+
+def _parts(checker: Checker, radii: FloatArray) -> list[_Part]:
+    """The arm against the world (each point moves at most its bound) and, for a
+    CollisionChecker that checks self-collision, the arm against itself (a pair of links
+    i < j closes at most by the bound of joints i+1..j), each asked of a checker of its
+    own kind; another checker as one group whose pairs may close by twice the bound."""
+    def world(dq: FloatArray) -> FloatArray:
+        return np.abs(dq) @ radii
+
+    if not all(hasattr(checker, key) for key in ("robot", "world", "self_collision")):
+        return [_Part(checker.distance, lambda dq: 2.0 * world(dq))]
+    robot, make = checker.robot, type(checker)
+    outer = make(robot, checker.world, self_collision=False, padding=checker.padding)
+    parts = [_Part(outer.distance, world)]
+    if checker.self_collision:
+        own = make(robot, type(checker.world)(floor=False), self_collision=True, padding=checker.padding)
+        index = {name: k for k, name in enumerate(robot.link_names)}
+        pairs = np.array(sorted({tuple(sorted((index[a], index[b]))) for a, b in own.checked_pairs}), dtype=np.int64)
+        if pairs.size:
+            def relative(dq: FloatArray) -> FloatArray:
+                cum = np.concatenate([np.zeros((dq.shape[0], 1)), np.cumsum(np.abs(dq) * radii, axis=1)], axis=1)
+                return np.max(cum[:, pairs[:, 1]] - cum[:, pairs[:, 0]], axis=1)
+
+            parts.append(_Part(own.distance, relative))
+    return parts
+
+
 class CheckCounter:
     """A checker's batched queries, counted (``PathResult.checks``: configurations asked)."""
 
@@ -64,7 +104,12 @@ class CheckCounter:
         self.checker = checker
         self.radii, self.resolution = motion_bound(checker, lo, hi)
         self.padding = float(getattr(checker, "padding", 0.0))
+        self.parts = _parts(checker, self.radii)
         self.count = 0
+        #: True: edges checked at the resolution of ``path_is_free`` (:meth:`along`);
+        #: False: bisected only down to COARSE_FACTOR resolutions, a stretch not proven free
+        #: there counting as a collision (conservative and cheaper: the search's first try).
+        self.fine = True
 
     def colliding(self, Q: FloatArray) -> BoolArray:
         """(M,) bool: which rows of ``Q`` (M, n) are in collision (one batched call)."""
@@ -74,53 +119,63 @@ class CheckCounter:
         return np.asarray(self.checker.in_collision(Q), dtype=bool).reshape(-1)
 
     def clearance(self, Q: FloatArray) -> FloatArray:
-        """(M,) signed distance beyond the padding of the rows of ``Q`` (M, n) [m]."""
-        if Q.shape[0] == 0:
-            return np.zeros(0)
+        """(M, P) signed distance beyond the padding of the rows of ``Q`` (M, n) [m], one
+        column per group of pairs."""
         self.count += Q.shape[0]
-        d = np.asarray(self.checker.distance(Q), dtype=float).reshape(-1)
-        return d - self.padding
+        if Q.shape[0] == 0:
+            return np.zeros((0, len(self.parts)))
+        return np.stack([np.asarray(p.distance(Q), dtype=float).reshape(-1) for p in self.parts], axis=1) - self.padding
+
+    def closing(self, dq: FloatArray) -> FloatArray:
+        """(M, P): how much the pairs of each group can close over joint steps ``dq`` (M, n)."""
+        return np.stack([p.closing(dq) for p in self.parts], axis=1)
 
     def steps(self, dq: FloatArray) -> NDArray[np.int64]:
         """Number of equal steps (>= 1) for joint displacements ``dq`` (..., n)."""
         sweep = np.abs(dq) @ self.radii
         return np.maximum(1, np.ceil(sweep / self.resolution - 1e-12)).astype(np.int64)
 
-    def along(self, Q: FloatArray, knot: BoolArray, path: NDArray[np.int64] | None = None,
+    def along(self, config: Callable[[Rows], FloatArray], closing: FloatArray, knot: BoolArray, path: Rows,
               first_only: bool = False) -> BoolArray:
-        """(M,) bool: collisions along sampled paths ``Q`` (M, n), consecutive rows at most
-        the resolution apart; ``path`` (M,) numbers the paths (one path when None), each
-        starting and ending at a ``knot`` row.
+        """(M,) bool: collisions along sampled paths of M configurations, consecutive ones
+        at most the resolution apart.  ``config(rows)`` gives the configurations of some
+        rows (built only when asked), ``closing`` (M, P) how much each group of pairs can
+        have closed from the path's start to each row (cumulative), ``path`` (M,) the path
+        of each row; every path starts and ends at a ``knot`` row.
 
-        The knots are asked for their distances first; an
-        interval between two asked rows is free if their clearances add up to more than
-        twice the sweep between them (the gap cannot close: every point moves at most
-        the sweep, every pair of points closes by at most twice it), otherwise its middle
-        row is asked, level by level (one batched call per level), until every interval
-        is proven free or has no row inside.  Rows of a path known to collide, or with
+        The knots are asked first; a stretch between two asked rows is proven free (module
+        docstring) or its middle row is asked, level by level, until every stretch is
+        proven free or has no row inside (in coarse mode: until it is COARSE_FACTOR rows
+        long, then it counts as a collision).  Rows of a path known to collide, or with
         ``first_only`` beyond its first collision, are not asked (False)."""
-        hit = np.zeros(Q.shape[0], dtype=bool)
-        path = np.zeros(Q.shape[0], dtype=np.int64) if path is None else path
-        limit = np.full(int(path[-1]) + 1, Q.shape[0])  # per path: rows from here on are not asked
-        sweep = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(Q, axis=0)) @ self.radii)])
-        d = np.full(Q.shape[0], np.nan)
+        M = closing.shape[0]
+        hit = np.zeros(M, dtype=bool)
+        limit = np.full(int(path[-1]) + 1, M)  # per path: rows from here on are not asked
+        d = np.full(closing.shape, np.nan)
 
-        def ask(rows: NDArray[np.int64]) -> None:
-            d[rows] = self.clearance(Q[rows])
-            hits = rows[d[rows] < 0.0]
+        def mark(hits: Rows) -> None:
             hit[hits] = True
             if first_only:
                 np.minimum.at(limit, path[hits], hits)
             else:
                 limit[path[hits]] = -1
 
+        def ask(rows: Rows) -> None:
+            d[rows] = self.clearance(config(rows))
+            mark(rows[np.any(d[rows] < 0.0, axis=1)])
+
         kn = np.flatnonzero(knot)
         ask(kn)
         a, b = kn[:-1], kn[1:]
+        floor = 1 if self.fine else COARSE_FACTOR
         while a.size:
-            keep = (b - a > 1) & (d[a] >= 0.0) & (a < limit[path[a]])
-            keep &= d[a] + d[b] <= 2.0 * (sweep[b] - sweep[a])
+            keep = (b - a > 1) & (path[a] == path[b]) & np.all(d[a] >= 0.0, axis=1) & (a < limit[path[a]])
+            keep &= np.any(d[a] + d[b] <= closing[b] - closing[a], axis=1)
             a, b = a[keep], b[keep]
+            short = b - a <= floor  # coarse mode: an unproven short stretch counts as a hit
+            if short.any():
+                mark(a[short] + 1)
+                a, b = a[~short], b[~short]
             if not a.size:
                 break
             mid = (a + b) // 2
@@ -128,27 +183,46 @@ class CheckCounter:
             a, b = np.concatenate([a, mid]), np.concatenate([mid, b])
         return hit
 
-    def _edge_rows(self, QA: FloatArray, QB: FloatArray) -> tuple[FloatArray, NDArray[np.int64], BoolArray]:
-        """Configurations of the edges QA[e] → QB[e] (E, n), both ends included: (M, n),
-        the edge of each row, and the knot rows (every COARSE_STRIDE-th and the ends)."""
+    def _edge_rows(self, QA: FloatArray, QB: FloatArray) -> tuple[Callable[[Rows], FloatArray], FloatArray, Rows, Rows]:
+        """The configurations of the edges QA[e] → QB[e] (E, n) at most the resolution
+        apart, both ends included, as rows: their builder, the cumulative closing bound
+        (M, P), the edge of each row and each row's step number k (0..m)."""
         m = self.steps(QB - QA)
         edge = np.repeat(np.arange(QA.shape[0]), m + 1)
-        start = np.concatenate([[0], np.cumsum(m + 1)[:-1]])
-        k = np.arange(edge.shape[0]) - start[edge]
+        k = np.arange(edge.shape[0]) - np.repeat(np.cumsum(m + 1) - (m + 1), m + 1)
         frac = k / m[edge]
-        knot = (k % COARSE_STRIDE == 0) | (k == m[edge])
-        return QA[edge] + frac[:, None] * (QB[edge] - QA[edge]), edge, knot
 
-    def first_collision(self, qa: FloatArray, qb: FloatArray) -> float | None:
-        """Fraction in [0, 1] of the edge ``qa`` → ``qb`` at which its first colliding
-        configuration sits, or None if the edge is free."""
-        Q, _, knot = self._edge_rows(qa[None], qb[None])
-        hit = np.flatnonzero(self.along(Q, knot, first_only=True))
-        return float(hit[0] / (Q.shape[0] - 1)) if hit.size else None
+        def config(rows: Rows) -> FloatArray:
+            e = edge[rows]
+            return QA[e] + frac[rows, None] * (QB[e] - QA[e])
+
+        return config, frac[:, None] * self.closing(QB - QA)[edge], edge, k
+
+    def free_fraction(self, qa: FloatArray, qb: FloatArray) -> float:
+        """How far along the edge ``qa`` → ``qb`` it is free: the fraction in [0, 1] of the
+        last configuration before the first collision (1 when the edge is free; in coarse
+        mode, see :attr:`fine`, before the first stretch not proven free)."""
+        config, closing, edge, k = self._edge_rows(qa[None], qb[None])
+        knot = (k % COARSE_STRIDE == 0) | (k == k[-1])
+        first = np.flatnonzero(self.along(config, closing, knot, edge, first_only=True))
+        if not first.size:
+            return 1.0
+        return float(k[first[0] - 1] / k[-1]) if first[0] > 0 else 0.0
 
     def edges_free(self, QA: FloatArray, QB: FloatArray) -> BoolArray:
-        """(E,) bool: which edges ``QA[e]`` → ``QB[e]`` (E, n) are free, both ends included."""
-        Q, edge, knot = self._edge_rows(QA, QB)
+        """(E,) bool: which edges ``QA[e]`` → ``QB[e]`` (E, n) are free, both ends
+        included (in coarse mode, see :attr:`fine`: proven free)."""
         free = np.ones(QA.shape[0], dtype=bool)
-        free[edge[self.along(Q, knot, edge)]] = False
+        config, closing, edge, k = self._edge_rows(QA, QB)
+        m = np.bincount(edge) - 1
+        knot = (k % COARSE_STRIDE == 0) | (k == m[edge])
+        free[edge[self.along(config, closing, knot, edge)]] = False
         return free
+
+    def samples_colliding(self, Q: FloatArray) -> BoolArray:
+        """(M,) bool: collisions along the sampled path ``Q`` (M, n), consecutive rows at
+        most the resolution apart (see :meth:`along`)."""
+        knot = np.arange(Q.shape[0]) % COARSE_STRIDE == 0
+        knot[-1] = True
+        closing = np.concatenate([np.zeros((1, len(self.parts))), np.cumsum(self.closing(np.diff(Q, axis=0)), axis=0)])
+        return self.along(lambda rows: Q[rows], closing, knot, np.zeros(Q.shape[0], dtype=np.int64))

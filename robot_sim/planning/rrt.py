@@ -26,6 +26,10 @@ FloatArray = NDArray[np.float64]
 #: of the sampling box's diagonal, capped so a step stays local.
 RANGE_FRACTION = 0.2
 MAX_STEP = 1.5
+#: A blocked extension stops this far (motion bound, m) before the obstacle.
+BACKOFF = 0.03
+#: Share of the time limit searched with coarse checks before searching with fine ones.
+COARSE_SHARE = 0.5
 #: Tolerance on the joint limits for start and goal [rad or m].
 LIMIT_TOL = 1e-9
 
@@ -102,15 +106,16 @@ def _toward(counter: CheckCounter, tree: _Tree, target: FloatArray, step: float,
     if dist == 0.0:
         return near, True
     reach = dist if connect else min(dist, step)
-    qb = qa + delta * (reach / dist)
-    hit = counter.first_collision(qa, qb)
-    free = reach if hit is None else reach * hit - reach / counter.steps(qb - qa)
-    # nodes every `step` along the free part (the last one where the free part ends)
+    frac = counter.free_fraction(qa, qa + delta * (reach / dist))
+    free = reach * frac
+    if frac < 1.0:  # stop short of the obstacle: a node at its surface blocks later growth
+        free -= BACKOFF / (np.abs(delta / dist) @ counter.radii)
     if free <= 1e-12:
         return -1, False
+    # nodes every `step` along the free part (the last one where the free part ends)
     marks = np.append(np.arange(step, free, step), free) if connect else np.array([free])
     last = tree.add_chain(near, qa + delta * (marks / dist)[:, None])
-    return last, hit is None and reach == dist
+    return last, frac == 1.0 and reach == dist
 
 
 def _rrt_connect(counter: CheckCounter, lo: FloatArray, hi: FloatArray, q0: FloatArray, q1: FloatArray,
@@ -175,14 +180,23 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     if hits.any():
         which = " and ".join(w for w, h in zip(("start", "goal"), hits) if h)
         return result(False, None, f"{which} {'is' if hits.sum() == 1 else 'are'} in collision")
-    if counter.first_collision(qs, qg) is None:
+    # search with the coarse, conservative checks for part of the time (their paths are
+    # proven free); if that fails, search again checking at the full resolution
+    counter.fine = False
+    if counter.edges_free(qs[None], qg[None])[0]:
         return result(True, np.stack([qs, qg]), "straight joint-space line is free")
-
     rng = np.random.default_rng(seed)
-    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
-    if raw is None:
-        return result(False, None, f"no path found within {limit:g} s ({nodes} tree nodes)")
-    short = shortcut(counter, raw, rng)
+    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + COARSE_SHARE * limit)
+    if raw is not None:
+        short = shortcut(counter, raw, rng)
+    else:
+        counter.fine = True
+        raw, more = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
+        nodes += more
+        if raw is None:
+            return result(False, None, f"no path found within {limit:g} s ({nodes} tree nodes)")
+        short = shortcut(counter, raw, rng)
+    counter.fine = True
     path = smooth(counter, robot, short)
     return result(True, path, f"RRT-Connect: {nodes} tree nodes, {raw.shape[0]} waypoints shortcut to "
                               f"{short.shape[0]}, smoothed")

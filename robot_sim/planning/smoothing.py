@@ -17,19 +17,32 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.model.params import RobotParams
-from robot_sim.planning.edges import COARSE_STRIDE, CheckCounter
+from robot_sim.planning.edges import CheckCounter
 from robot_sim.planning.spline import JointSpline
 
 FloatArray = NDArray[np.float64]
 
 #: Random shortcut attempts (a fixed count, so a seed gives one path).
-SHORTCUT_ATTEMPTS = 30
+SHORTCUT_ATTEMPTS = 12
+#: Waypoints whose edges turn by less than this (1 − cos) are on a straight line.
+COLLINEAR_TOL = 1e-9
 #: Rounds of adding waypoints to a colliding spline span before it becomes a straight edge.
 SMOOTH_ROUNDS = 4
 #: Trial spacing along the spline [rad or m] from which the check spacing is set, and the
 #: margin of that spacing over the chord's sweep (the arc is a little longer than its chord).
 TRIAL_SPACING = 0.05
 ARC_MARGIN = 1.25
+
+
+def _corners(P: FloatArray) -> FloatArray:
+    """``P`` without the waypoints that lie on the straight line between their neighbours
+    (the tree's chains along one connection), which changes no edge."""
+    if P.shape[0] < 3:
+        return P
+    d0, d1 = P[1:-1] - P[:-2], P[2:] - P[1:-1]
+    n0, n1 = np.linalg.norm(d0, axis=1), np.linalg.norm(d1, axis=1)
+    straight = np.einsum("ij,ij->i", d0, d1) >= (1.0 - COLLINEAR_TOL) * n0 * n1
+    return P[np.concatenate([[True], ~straight, [True]])]
 
 
 def _prune(counter: CheckCounter, P: FloatArray) -> FloatArray:
@@ -48,7 +61,7 @@ def shortcut(counter: CheckCounter, path: FloatArray, rng: np.random.Generator,
              attempts: int = SHORTCUT_ATTEMPTS) -> FloatArray:
     """``path`` (K, n), a free polyline, made shorter: waypoints pruned, then ``attempts``
     random shortcuts between two points on different edges, then pruned again."""
-    P = _prune(counter, path)
+    P = _prune(counter, _corners(path))
     for _ in range(attempts):
         if P.shape[0] < 3:
             break
@@ -81,9 +94,7 @@ def _failing_spans(counter: CheckCounter, robot: RobotParams, spline: JointSplin
     s, Q = spline_samples(counter, spline)
     bad = np.any((Q < robot.q_min) | (Q > robot.q_max), axis=1)
     if not bad.any():
-        knot = np.arange(Q.shape[0]) % COARSE_STRIDE == 0
-        knot[-1] = True
-        bad = counter.along(Q, knot)
+        bad = counter.samples_colliding(Q)
     span = np.clip(np.searchsorted(spline.knots, s[bad], side="right") - 1, 0, spline.knots.shape[0] - 2)
     return np.unique(span)
 
