@@ -113,7 +113,7 @@ def _toward(counter: CheckCounter, tree: _Tree, target: FloatArray, step: float,
     if free <= 1e-12:
         return -1, False
     # nodes every `step` along the free part (the last one where the free part ends)
-    marks = np.append(np.arange(step, free, step), free) if connect else np.array([free])
+    marks = np.append(np.arange(step, free - 1e-9, step), free) if connect else np.array([free])
     last = tree.add_chain(near, qa + delta * (marks / dist)[:, None])
     return last, frac == 1.0 and reach == dist
 

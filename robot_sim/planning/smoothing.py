@@ -37,6 +37,7 @@ ARC_MARGIN = 1.25
 def _corners(P: FloatArray) -> FloatArray:
     """``P`` without the waypoints that lie on the straight line between their neighbours
     (the tree's chains along one connection), which changes no edge."""
+    P = P[np.concatenate([[True], np.linalg.norm(np.diff(P, axis=0), axis=1) > 0.0])]  # repeats go first
     if P.shape[0] < 3:
         return P
     d0, d1 = P[1:-1] - P[:-2], P[2:] - P[1:-1]
