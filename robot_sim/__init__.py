@@ -69,6 +69,11 @@ _EXPORTS = {
     "CartesianPathError": "robot_sim.planning.cartesian",
     "scale_to_limits": "robot_sim.planning.scaling",
     "plan_pick": "robot_sim.planning.pick_task",
+    "plan_path": "robot_sim.planning.rrt",
+    "PathResult": "robot_sim.planning.rrt",
+    "plan_to_pose": "robot_sim.planning.pose_goal",
+    "retime": "robot_sim.planning.retime",
+    "qdd_limits": "robot_sim.planning.cartesian",
     "load_task": "robot_sim.planning.task_file",
     # geometry and collision
     "Box": "robot_sim.model.shapes",

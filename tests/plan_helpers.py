@@ -48,5 +48,8 @@ def measured_samples(checker: CollisionChecker, path: np.ndarray, step: float = 
 
 
 def free_at(checker: CollisionChecker, path: np.ndarray, step: float = STEP) -> bool:
-    """Whether every measured sample of the polyline through ``path`` is free."""
+    """Whether every measured sample of the polyline through ``path`` is free (for every
+    member of a checker made of checkers)."""
+    if hasattr(checker, "members"):
+        return all(free_at(member, path, step) for member in checker.members)
     return not bool(np.any(checker.in_collision(measured_samples(checker, np.asarray(path, dtype=float), step))))

@@ -131,7 +131,7 @@ def test_cli_unreachable_task_is_one_line_before_anything_moves(tmp_path):
                     'size = [0.04, 0.04, 0.08]\nxyz = [3.0, 0.0, 0.24]\n[place]\nxyz = [3.0, 0.2, 0.24]\n')
     out = tmp_path / "never.png"
     result = run("--robot", "ur5", "--demo", "pick", "--task", str(task), "--screenshot", str(out))
-    assert_one_line_error(result, f"task {task}: UR5: pre-grasp: tool at xyz [3.000, 0.000, 0.340] m", "is out of reach")
+    assert_one_line_error(result, f"task {task}: UR5: pre-grasp: tool at xyz [3.000, 0.000, 0.400] m", "is out of reach")
     assert not out.exists()
 
 

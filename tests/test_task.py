@@ -124,7 +124,7 @@ def test_unreachable_task_fails_with_one_line_before_moving(tmp_path):
         plan_pick(robot("ur5"), spec)
     message = str(info.value)
     assert "\n" not in message
-    assert message.startswith(f"task {path}: UR5: pre-grasp: tool at xyz [5.000, -0.200, 0.350] m, rpy [180.0, ")
+    assert message.startswith(f"task {path}: UR5: pre-grasp: tool at xyz [5.000, -0.200, 0.410] m, rpy [180.0, ")
     assert "is out of reach: IK did not converge" in message
 
 

@@ -166,12 +166,13 @@ TRAIL_WIDTH_PX = 2.0
 # Pick task (--demo pick): table, object, two-finger gripper, planned endeffector path
 TABLE_COLOR = (0.50, 0.35, 0.20, 1.0)     # wood brown
 OBJECT_COLOR = (0.60, 0.20, 0.75, 1.0)    # purple block (orange is the velocity arrow)
+OBSTACLE_COLOR = (0.55, 0.60, 0.68, 1.0)  # slate grey: the task's walls and posts
 GRIPPER_COLOR = (0.20, 0.22, 0.28, 1.0)   # dark steel
 PATH_COLOR = (0.95, 0.85, 0.10, 1.0)      # yellow line
 PATH_LINE_WIDTH_PX = 2.0
 GRIPPER_FINGER_THICKNESS_M = 0.008         # across the grip (tool y)
 GRIPPER_FINGER_WIDTH_M = 0.02              # along tool x
-GRIPPER_FINGER_TIP_PAST_M = 0.01           # fingertips this far past the tool point
+GRIPPER_FINGER_TIP_PAST_M = 0.01           # fingertips this far past the finger length
 GRIPPER_PALM_THICKNESS_M = 0.012
 
 # Collision display (key C): the robot's collision shapes, red where they touch, the

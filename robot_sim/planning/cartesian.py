@@ -92,17 +92,18 @@ def _describe(pose: FloatArray) -> str:
     return f"tool at xyz [{', '.join(f'{v:.4f}' for v in pose[:3, 3])}] m, rpy [{', '.join(f'{v:.2f}' for v in rpy)}] deg"
 
 
-def _why(robot: RobotParams, q_prev: FloatArray, result) -> str:
-    """Reason an IK step from ``q_prev`` failed: singular, joint limit or out of reach."""
+def _why(robot: RobotParams, q_prev: FloatArray, result) -> tuple[str, int | None]:
+    """Reason an IK step from ``q_prev`` failed (singular, joint limit or out of reach) and
+    the joint concerned (None when no single joint is)."""
     rows = 3 if result.position_only else 6
     sigma = float(np.linalg.svd(jacobian(robot, q_prev)[:rows], compute_uv=False)[-1])
     if sigma < SINGULAR_SIGMA:
-        return f"singular: smallest singular value of the Jacobian {sigma:.2e} < {SINGULAR_SIGMA:g}"
+        return f"singular: smallest singular value of the Jacobian {sigma:.2e} < {SINGULAR_SIGMA:g}", None
     at_limit = np.flatnonzero((result.q <= robot.q_min + 1e-6) | (result.q >= robot.q_max - 1e-6))
     if at_limit.size:
         j = int(at_limit[0])
-        return f"joint {j + 1} at its limit ({result.q[j]:.4g} in [{robot.q_min[j]:.4g}, {robot.q_max[j]:.4g}])"
-    return f"out of reach: IK position error {result.pos_err:.3g} m, rotation error {result.rot_err:.3g} rad"
+        return f"joint {j + 1} at its limit ({result.q[j]:.4g} in [{robot.q_min[j]:.4g}, {robot.q_max[j]:.4g}])", j
+    return f"out of reach: IK position error {result.pos_err:.3g} m, rotation error {result.rot_err:.3g} rad", None
 
 
 def _partial(t: FloatArray, q: FloatArray, poses: FloatArray) -> Trajectory:
@@ -156,7 +157,7 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
         res = solve_ik(robot, P[k], seed, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
                        tol_pos=FOLLOW_TOL, tol_rot=FOLLOW_TOL)
         if not res.success:
-            raise fail(k, _why(robot, q_prev, res), None, Q)
+            raise fail(k, *_why(robot, q_prev, res), Q)
         reached = np.flatnonzero(at_limit(res.q) & ~was_at)
         if reached.size:
             j = int(reached[0])

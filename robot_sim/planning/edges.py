@@ -75,10 +75,14 @@ def _parts(checker: Checker, radii: FloatArray) -> list[_Part]:
     """The arm against the world (each point moves at most its bound) and, for a
     CollisionChecker that checks self-collision, the arm against itself (a pair of links
     i < j closes at most by the bound of joints i+1..j), each asked of a checker of its
-    own kind; another checker as one group whose pairs may close by twice the bound."""
+    own kind; a checker with ``members`` as the groups of its members; another checker as
+    one group whose pairs may close by twice the bound."""
     def world(dq: FloatArray) -> FloatArray:
         return np.abs(dq) @ radii
 
+    members = getattr(checker, "members", None)
+    if members is not None:  # a checker made of checkers (robot_sim.planning.carrying)
+        return [part for member in members for part in _parts(member, radii)]
     if not all(hasattr(checker, key) for key in ("robot", "world", "self_collision")):
         return [_Part(checker.distance, lambda dq: 2.0 * world(dq))]
     robot, make = checker.robot, type(checker)

@@ -14,8 +14,8 @@ shape = "box"                    # "box" (size = [x, y, z]) or "cylinder" (size 
 size = [0.04, 0.04, 0.08]
 xyz = [0.45, -0.2, 0.34]         # object frame = its centre, world (m)
 rpy = [0.0, 0.0, 0.0]
-[grasp]                          # tool frame in the object frame (default: at the centre, z down)
-xyz = [0.0, 0.0, 0.0]
+[grasp]                          # tool frame in the object frame (default: a finger length above
+xyz = [0.0, 0.0, 0.06]           # the centre, z down: the fingers reach from the tool to the centre)
 rpy = [180.0, 0.0, 0.0]
 [place]                          # object frame in the world when placed
 xyz = [0.45, 0.2, 0.34]
@@ -25,6 +25,12 @@ approach = 0.10                  # m: pre-grasp and retreat height above grasp /
 lift = 0.15                      # m: lift height
 speed = 0.15                     # m/s: mean tool speed of the straight-line moves
 dwell = 0.5                      # s: closing / opening the gripper
+[[obstacles]]                    # optional, any number: the world file's format
+name = "post"                    # (robot_sim.io.world_file; "table" is the table's name)
+shape = "cylinder"
+radius = 0.02
+length = 0.3
+xyz = [0.5, 0.0, 0.45]
 ```
 
 SI units inside; no Qt, no OpenGL.
@@ -45,21 +51,30 @@ from robot_sim.io import robot_file
 from robot_sim.io.checker import FieldChecker
 from robot_sim.model.messages import clip_repr
 from robot_sim.io.robot_file import UNITS
+from robot_sim.io.world_file import WorldDefinitionError, parse_world
+from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Shape, Sphere
+from robot_sim.model.world import World
 from robot_sim.transforms import HomogeneousTransform, rot_x
 
 FloatArray = NDArray[np.float64]
 
 SHAPES = ("box", "cylinder")
-TOP_KEYS = {"name", "units", "table", "object", "grasp", "place", "motion"}
+TOP_KEYS = {"name", "units", "table", "object", "grasp", "place", "motion", "obstacles"}
+#: The table's obstacle name in the task's world (an obstacle may not take it).
+TABLE_NAME = "table"
 TABLE_KEYS = {"xyz", "size"}
 OBJECT_KEYS = {"shape", "size", "xyz", "rpy"}
 POSE_KEYS = {"xyz", "rpy"}
 MOTION_DEFAULTS = {"approach": 0.10, "lift": 0.15, "speed": 0.15, "dwell": 0.5}
-#: Length of the simulated two-finger gripper's fingers [m]: its palm sits this far
-#: behind the tool point (the grasp pose is the point between the fingertips).
+#: Length of the simulated two-finger gripper's fingers with the default grasp [m]: its
+#: palm is at the tool frame and the fingertips this far ahead along the tool's z axis,
+#: at the object's centre (:meth:`TaskSpec.finger_length`; the arm's own links end at the
+#: tool frame, the fingers are not collision shapes).
 GRIPPER_FINGER_LENGTH = 0.06
-#: Default grasp: tool at the object's centre, its z axis pointing down (object −z).
-DEFAULT_GRASP = np.block([[rot_x(math.pi), np.zeros((3, 1))], [np.zeros((1, 3)), np.ones((1, 1))]])
+#: Default grasp: the fingertips at the object's centre, the tool a finger length above
+#: it with its z axis pointing down (object −z).
+DEFAULT_GRASP = np.block([[rot_x(math.pi), np.array([[0.0], [0.0], [GRIPPER_FINGER_LENGTH]])],
+                          [np.zeros((1, 3)), np.ones((1, 1))]])
 
 
 class TaskDefinitionError(ValueError):
@@ -76,6 +91,7 @@ class TaskSpec:
     ``object_pose`` (4, 4) the object's centre frame before the task, ``grasp`` (4, 4) the
     tool frame in the object frame, ``place`` (4, 4) the object's frame when placed.
     ``approach``, ``lift`` [m], ``speed`` [m/s] and ``dwell`` [s] shape the motion.
+    ``obstacles`` are named shapes in the world besides the table and the floor.
     """
 
     name: str
@@ -91,10 +107,34 @@ class TaskSpec:
     speed: float = MOTION_DEFAULTS["speed"]
     dwell: float = MOTION_DEFAULTS["dwell"]
     source: str = field(default="<generated>")
+    obstacles: tuple[tuple[str, Shape], ...] = ()
 
     def __post_init__(self) -> None:
         for key in ("table_top", "table_size", "object_size", "object_pose", "grasp", "place"):
             object.__setattr__(self, key, frozen(getattr(self, key)))
+
+    def table_box(self) -> Box:
+        """The table as a box obstacle (world frame): its top face centred at ``table_top``."""
+        pose = np.eye(4)
+        pose[:3, 3] = np.asarray(self.table_top) - [0.0, 0.0, self.table_size[2] / 2]
+        return Box(self.table_size, pose)
+
+    def object_shape_at(self, pose: FloatArray) -> Box | Cylinder:
+        """The object as a shape posed at ``pose`` (4×4, its centre frame)."""
+        if self.object_shape == "cylinder":
+            return Cylinder(self.object_size[0] / 2, self.object_size[2], pose)
+        return Box(self.object_size, pose)
+
+    def world(self, *, table: bool = True) -> World:
+        """The task's world: the floor, the table (unless ``table`` is False) and the
+        obstacles; the object is not in it (the arm reaches into it to grasp it)."""
+        items = ([(TABLE_NAME, self.table_box())] if table else []) + list(self.obstacles)
+        return World(items)
+
+    def finger_length(self) -> float:
+        """How far the gripper's fingers reach ahead of the tool frame [m]: to the object's
+        centre along the tool's z axis (GRIPPER_FINGER_LENGTH with the default grasp)."""
+        return float(max(0.0, np.linalg.inv(self.grasp)[2, 3]))
 
     def grip_width(self) -> float:
         """Width of the object between the fingers [m]: its extent along the tool's y axis."""
@@ -197,9 +237,19 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
         check.keys(table_m, set(MOTION_DEFAULTS), "motion")
         for key, value in table_m.items():
             motion[key] = check.positive(value, f"motion.{key}")
+    obstacles = ()
+    if "obstacles" in data:
+        try:
+            world = parse_world({"units": units, "floor": False, "obstacles": data["obstacles"]}, path)
+        except WorldDefinitionError as exc:
+            raise TaskDefinitionError(str(exc)) from None
+        obstacles = world.obstacles
+        for k, (name_k, _) in enumerate(obstacles):
+            if name_k == TABLE_NAME:
+                raise check.fail(f"obstacles[{k}].name", f"{TABLE_NAME!r} is the table's name; name the obstacle otherwise")
     return TaskSpec(
         name=name, table_top=top, table_size=table_size, object_shape=shape, object_size=size,
-        object_pose=object_pose, grasp=grasp, place=place, source=str(path), **motion,
+        object_pose=object_pose, grasp=grasp, place=place, source=str(path), obstacles=obstacles, **motion,
     )
 
 
@@ -214,6 +264,21 @@ def task_toml(spec: TaskSpec) -> str:
     def vec(values: FloatArray) -> str:
         return "[" + ", ".join(f"{v:.6g}" for v in values) + "]"
 
+    def obstacle(name: str, shape: Shape) -> str:
+        head = f"\n[[obstacles]]\nname = {json.dumps(name)}\n"
+        if isinstance(shape, Sphere):
+            return head + f'shape = "sphere"\nradius = {shape.radius:.6g}\nxyz = {vec(shape.center)}\n'
+        if isinstance(shape, Box):
+            return head + f'shape = "box"\nsize = {vec(shape.size)}\n{pose(shape.pose)}'
+        if isinstance(shape, (Cylinder, Capsule)):
+            kind = "cylinder" if isinstance(shape, Cylinder) else "capsule"
+            return head + (f'shape = "{kind}"\nradius = {shape.radius:.6g}\nlength = {shape.length:.6g}\n'
+                           f"{pose(shape.pose)}")
+        if isinstance(shape, Mesh) and shape.path is not None:
+            return head + (f'shape = "mesh"\nmesh = {json.dumps(str(shape.path))}\nscale = {vec(shape.scale)}\n'
+                           f"{pose(shape.pose)}")
+        raise ValueError(f"task_toml: obstacle {name!r} ({type(shape).__name__}) has no task-file form")
+
     size = spec.object_size if spec.object_shape == "box" else spec.object_size[[0, 2]]
     motion = "".join(f"{key} = {getattr(spec, key):.6g}\n" for key in MOTION_DEFAULTS)
     return (
@@ -221,4 +286,5 @@ def task_toml(spec: TaskSpec) -> str:
         f"size = {vec(spec.table_size)}\n\n[object]\nshape = \"{spec.object_shape}\"\n"
         f"size = {vec(size)}\n{pose(spec.object_pose)}\n[grasp]\n{pose(spec.grasp)}\n"
         f"[place]\n{pose(spec.place)}\n[motion]\n{motion}"
+        + "".join(obstacle(n, sh) for n, sh in spec.obstacles)
     )

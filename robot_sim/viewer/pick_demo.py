@@ -12,7 +12,7 @@ from robot_sim.viewer import settings as vs
 from robot_sim.graphics.task_scene import TaskScene
 from robot_sim.planning.pick_task import SceneState, TaskPlan, default_plan, plan_pick
 from robot_sim.model.params import RobotParams
-from robot_sim.planning.task_file import GRIPPER_FINGER_LENGTH, load_task
+from robot_sim.planning.task_file import load_task
 
 
 def plan_for(robot: RobotParams, task_path: str | Path | None = None) -> TaskPlan:
@@ -78,5 +78,6 @@ class PickDemo:
             table_top=np.array(spec.table_top), table_size=np.array(spec.table_size),
             object_shape=spec.object_shape, object_size=np.array(spec.object_size),
             object_pose=state.object_pose, tool_pose=state.tool_pose,
-            gripper_opening=state.gripper_opening, finger_length=GRIPPER_FINGER_LENGTH, path=path,
+            gripper_opening=state.gripper_opening, finger_length=spec.finger_length(), path=path,
+            obstacles=spec.obstacles,
         )

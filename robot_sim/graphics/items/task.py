@@ -1,4 +1,4 @@
-"""The pick task's item: table, object and a two-finger gripper at the tool (lit,
+"""The pick task's item: table, obstacles, object and a two-finger gripper at the tool (lit,
 casting shadows) and the planned endeffector path (``task_scene`` has the geometry)."""
 from __future__ import annotations
 
