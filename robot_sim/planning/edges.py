@@ -139,41 +139,41 @@ class CheckCounter:
         sweep = np.abs(dq) @ self.radii
         return np.maximum(1, np.ceil(sweep / self.resolution - 1e-12)).astype(np.int64)
 
-    def along(self, config: Callable[[Rows], FloatArray], closing: FloatArray, knot: BoolArray, path: Rows,
-              first_only: bool = False) -> BoolArray:
-        """(M,) bool: collisions along sampled paths of M configurations, consecutive ones
-        at most the resolution apart.  ``config(rows)`` gives the configurations of some
-        rows (built only when asked), ``closing`` (M, P) how much each group of pairs can
-        have closed from the path's start to each row (cumulative), ``path`` (M,) the path
-        of each row; every path starts and ends at a ``knot`` row.
+    def along(self, rows: "_Rows", first_only: bool = False) -> BoolArray:
+        """(M,) bool: collisions along sampled paths of M configurations (``rows``),
+        consecutive ones at most the resolution apart, every path starting and ending at a
+        knot row.
 
         The knots are asked first; a stretch between two asked rows is proven free (module
         docstring) or its middle row is asked, level by level, until every stretch is
         proven free or has no row inside (in coarse mode: until it is COARSE_FACTOR rows
         long, then it counts as a collision).  Rows of a path known to collide, or with
         ``first_only`` beyond its first collision, are not asked (False)."""
-        M = closing.shape[0]
+        M = rows.count
         hit = np.zeros(M, dtype=bool)
-        limit = np.full(int(path[-1]) + 1, M)  # per path: rows from here on are not asked
-        d = np.full(closing.shape, np.nan)
+        limit = np.full(rows.paths, M)  # per path: rows from here on are not asked
+        d = np.full((M, len(self.parts)), np.nan)
+        closing = np.full((M, len(self.parts)), np.nan)
 
         def mark(hits: Rows) -> None:
             hit[hits] = True
             if first_only:
-                np.minimum.at(limit, path[hits], hits)
+                np.minimum.at(limit, rows.path(hits), hits)
             else:
-                limit[path[hits]] = -1
+                limit[rows.path(hits)] = -1
 
-        def ask(rows: Rows) -> None:
-            d[rows] = self.clearance(config(rows))
-            mark(rows[np.any(d[rows] < 0.0, axis=1)])
+        def ask(asked: Rows) -> None:
+            d[asked] = self.clearance(rows.config(asked))
+            closing[asked] = rows.closing(asked)
+            mark(asked[np.any(d[asked] < 0.0, axis=1)])
 
-        kn = np.flatnonzero(knot)
+        kn = rows.knots
         ask(kn)
         a, b = kn[:-1], kn[1:]
         floor = 1 if self.fine else COARSE_FACTOR
         while a.size:
-            keep = (b - a > 1) & (path[a] == path[b]) & np.all(d[a] >= 0.0, axis=1) & (a < limit[path[a]])
+            pa = rows.path(a)
+            keep = (b - a > 1) & (pa == rows.path(b)) & np.all(d[a] >= 0.0, axis=1) & (a < limit[pa])
             keep &= np.any(d[a] + d[b] <= closing[b] - closing[a], axis=1)
             a, b = a[keep], b[keep]
             short = b - a <= floor  # coarse mode: an unproven short stretch counts as a hit
@@ -187,46 +187,89 @@ class CheckCounter:
             a, b = np.concatenate([a, mid]), np.concatenate([mid, b])
         return hit
 
-    def _edge_rows(self, QA: FloatArray, QB: FloatArray) -> tuple[Callable[[Rows], FloatArray], FloatArray, Rows, Rows]:
+    def _edge_rows(self, QA: FloatArray, QB: FloatArray) -> "_Rows":
         """The configurations of the edges QA[e] → QB[e] (E, n) at most the resolution
-        apart, both ends included, as rows: their builder, the cumulative closing bound
-        (M, P), the edge of each row and each row's step number k (0..m)."""
-        m = self.steps(QB - QA)
-        edge = np.repeat(np.arange(QA.shape[0]), m + 1)
-        k = np.arange(edge.shape[0]) - np.repeat(np.cumsum(m + 1) - (m + 1), m + 1)
-        frac = k / m[edge]
-
-        def config(rows: Rows) -> FloatArray:
-            e = edge[rows]
-            return QA[e] + frac[rows, None] * (QB[e] - QA[e])
-
-        return config, frac[:, None] * self.closing(QB - QA)[edge], edge, k
+        apart, both ends included (path e), built only when asked."""
+        return _EdgeRows(QA, QB, self.steps(QB - QA), self.closing(QB - QA))
 
     def free_fraction(self, qa: FloatArray, qb: FloatArray) -> float:
         """How far along the edge ``qa`` → ``qb`` it is free: the fraction in [0, 1] of the
         last configuration before the first collision (1 when the edge is free; in coarse
         mode, see :attr:`fine`, before the first stretch not proven free)."""
-        config, closing, edge, k = self._edge_rows(qa[None], qb[None])
-        knot = (k % COARSE_STRIDE == 0) | (k == k[-1])
-        first = np.flatnonzero(self.along(config, closing, knot, edge, first_only=True))
+        rows = self._edge_rows(qa[None], qb[None])
+        first = np.flatnonzero(self.along(rows, first_only=True))
         if not first.size:
             return 1.0
-        return float(k[first[0] - 1] / k[-1]) if first[0] > 0 else 0.0
+        return float((first[0] - 1) / (rows.count - 1)) if first[0] > 0 else 0.0
 
     def edges_free(self, QA: FloatArray, QB: FloatArray) -> BoolArray:
         """(E,) bool: which edges ``QA[e]`` → ``QB[e]`` (E, n) are free, both ends
         included (in coarse mode, see :attr:`fine`: proven free)."""
         free = np.ones(QA.shape[0], dtype=bool)
-        config, closing, edge, k = self._edge_rows(QA, QB)
-        m = np.bincount(edge) - 1
-        knot = (k % COARSE_STRIDE == 0) | (k == m[edge])
-        free[edge[self.along(config, closing, knot, edge)]] = False
+        rows = self._edge_rows(QA, QB)
+        free[rows.path(np.flatnonzero(self.along(rows)))] = False
         return free
 
     def samples_colliding(self, Q: FloatArray) -> BoolArray:
         """(M,) bool: collisions along the sampled path ``Q`` (M, n), consecutive rows at
         most the resolution apart (see :meth:`along`)."""
-        knot = np.arange(Q.shape[0]) % COARSE_STRIDE == 0
-        knot[-1] = True
         closing = np.concatenate([np.zeros((1, len(self.parts))), np.cumsum(self.closing(np.diff(Q, axis=0)), axis=0)])
-        return self.along(lambda rows: Q[rows], closing, knot, np.zeros(Q.shape[0], dtype=np.int64))
+        return self.along(_SampleRows(Q, closing))
+
+
+class _Rows(Protocol):
+    """Configurations numbered 0..count-1 along ``paths`` sampled paths."""
+
+    count: int
+    paths: int
+    knots: Rows  # the rows asked first, in order: every COARSE_STRIDE-th and each path's ends
+
+    def config(self, rows: Rows) -> FloatArray: ...  # (k, n)
+
+    def closing(self, rows: Rows) -> FloatArray: ...  # (k, P) bound from the path's start
+
+    def path(self, rows: Rows) -> Rows: ...
+
+
+class _EdgeRows:
+    """The rows of straight edges QA[e] → QB[e], m_e steps each (m_e + 1 rows)."""
+
+    def __init__(self, QA: FloatArray, QB: FloatArray, m: NDArray[np.int64], closing: FloatArray) -> None:
+        self.QA, self.dQ, self.m, self.total = QA, QB - QA, m, closing
+        self.start = np.concatenate([[0], np.cumsum(m + 1)[:-1]])
+        self.count, self.paths = int(np.sum(m + 1)), QA.shape[0]
+        self.knots = np.concatenate([np.append(np.arange(0, mi, COARSE_STRIDE), mi) + s
+                                     for mi, s in zip(m.tolist(), self.start.tolist())])
+
+    def path(self, rows: Rows) -> Rows:
+        return np.searchsorted(self.start, rows, side="right") - 1
+
+    def _frac(self, rows: Rows) -> tuple[Rows, FloatArray]:
+        e = self.path(rows)
+        return e, (rows - self.start[e]) / self.m[e]
+
+    def config(self, rows: Rows) -> FloatArray:
+        e, f = self._frac(rows)
+        return self.QA[e] + f[:, None] * self.dQ[e]
+
+    def closing(self, rows: Rows) -> FloatArray:
+        e, f = self._frac(rows)
+        return f[:, None] * self.total[e]
+
+
+class _SampleRows:
+    """The rows of one sampled path ``Q`` (M, n) with its cumulative ``closing`` (M, P)."""
+
+    def __init__(self, Q: FloatArray, closing: FloatArray) -> None:
+        self.Q, self.cum = Q, closing
+        self.count, self.paths = Q.shape[0], 1
+        self.knots = np.append(np.arange(0, self.count - 1, COARSE_STRIDE), self.count - 1)
+
+    def path(self, rows: Rows) -> Rows:
+        return np.zeros(len(rows), dtype=np.int64)
+
+    def config(self, rows: Rows) -> FloatArray:
+        return self.Q[rows]
+
+    def closing(self, rows: Rows) -> FloatArray:
+        return self.cum[rows]
