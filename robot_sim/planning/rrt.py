@@ -1,10 +1,13 @@
 """Collision-free joint-space paths: :func:`plan_path` (bidirectional RRT-Connect, then
 shortcutting and smoothing) and its :class:`PathResult`.
 
-Every edge is a straight joint-space segment validated in one batched call of the
-checker at the continuous resolution of ``checker.path_is_free`` (see
-:mod:`robot_sim.planning.edges`), so a returned path is free between its waypoints, not
-only at them.  Joint values in rad or m, times in seconds.  No Qt, no OpenGL.
+Every edge is a straight joint-space segment whose configurations are checked in
+batched calls at the continuous resolution of ``checker.path_is_free`` (see
+:mod:`robot_sim.planning.edges`: distances prove stretches free, the rest is bisected), so
+a returned path is free between its waypoints, not only at them.  The search runs first
+with the coarse, conservative version of that check and, if it finds nothing in half the
+time, again with the full one.  Joint values in rad or m, times in seconds.  No Qt, no
+OpenGL.
 """
 from __future__ import annotations
 
@@ -145,8 +148,8 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
 
     Bidirectional RRT-Connect samples uniformly inside the joint limits (unlimited revolute
     joints over [−π, π], widened to hold start and goal); each extension is one straight
-    edge whose interpolated configurations are checked in one batched call at the
-    resolution of ``checker.path_is_free``.  The path found is then shortcut and smoothed
+    edge whose interpolated configurations are checked in batched calls at the
+    resolution of ``checker.path_is_free`` (coarsely first, module docstring).  The path found is then shortcut and smoothed
     (:mod:`robot_sim.planning.smoothing`), keeping it free.  The same ``seed`` gives the
     same path (the search is stopped by ``time_limit`` [s] only when it fails).
 
