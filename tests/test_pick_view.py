@@ -62,6 +62,18 @@ def test_table_object_and_gripper_at_their_projections(renderer):
     assert colour_fraction(image, cam.project(palm[None, :3, 3], W, H)[0], gd.GRIPPER_COLOR, radius=2) > 0.3
 
 
+def test_the_wall_between_pick_and_place_is_drawn(renderer):
+    session = pick_session("ur5", 0.0)
+    cam, spec = session.camera, session.pick.plan.spec
+    wall = dict(spec.obstacles)["wall"]
+    image = renderer.render(cam, session.scene(), session.options)
+    face = wall.pose[:3, 3] + [0.0, 0.0, wall.size[2] / 4]  # its upper half, above the table
+    xy = cam.project(face[None], W, H)[0]
+    assert colour_fraction(image, xy, gd.OBSTACLE_COLOR) > 0.5
+    bare = renderer.render(cam, session.scene().__class__(session.kin), session.options)
+    assert colour_fraction(bare, xy, gd.OBSTACLE_COLOR) == 0.0
+
+
 def test_object_drawn_at_its_place_after_the_end(renderer):
     session = pick_session("puma560", 1e6)
     plan, cam = session.pick.plan, session.camera

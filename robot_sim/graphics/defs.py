@@ -166,7 +166,7 @@ TRAIL_WIDTH_PX = 2.0
 # Pick task (--demo pick): table, object, two-finger gripper, planned endeffector path
 TABLE_COLOR = (0.50, 0.35, 0.20, 1.0)     # wood brown
 OBJECT_COLOR = (0.60, 0.20, 0.75, 1.0)    # purple block (orange is the velocity arrow)
-OBSTACLE_COLOR = (0.55, 0.60, 0.68, 1.0)  # slate grey: the task's walls and posts
+OBSTACLE_COLOR = (0.20, 0.55, 0.50, 1.0)  # teal: the task's walls and posts (unlike floor, arm, pull spring)
 GRIPPER_COLOR = (0.20, 0.22, 0.28, 1.0)   # dark steel
 PATH_COLOR = (0.95, 0.85, 0.10, 1.0)      # yellow line
 PATH_LINE_WIDTH_PX = 2.0
