@@ -48,10 +48,11 @@ class PathCheck:
         return self.free
 
 
-def lever_arms(checker, Qa: FloatArray, Qb: FloatArray) -> FloatArray:  # noqa: ANN001
-    """Per segment and joint (M, n): how far a point of the shapes moves per unit of joint
-    motion (m/rad for revolute joints, 1 for prismatic ones), valid along the segments
-    from Qa to Qb (M, n)."""
+def link_lever_arms(checker, Qa: FloatArray, Qb: FloatArray) -> FloatArray:  # noqa: ANN001
+    """Per segment, link and joint (M, n + 1, n): how far a point of link l's shapes moves
+    per unit of joint j's motion (m/rad for revolute joints, 1 for prismatic ones; 0 for
+    the links before the joint), valid along the segments from Qa to Qb (M, n).  Summed
+    over the joints between two links it bounds how much that pair can close."""
     robot, scene = checker.robot, checker.scene
     n = robot.n_dofs
     revolute = robot.jtype == JTYPE_REVOLUTE
@@ -62,12 +63,21 @@ def lever_arms(checker, Qa: FloatArray, Qb: FloatArray) -> FloatArray:  # noqa: 
     d = np.abs(robot.dh_d) + np.where(revolute, 0.0, np.maximum(np.abs(Qa), np.abs(Qb)))
     row = np.abs(robot.dh_a) + d  # (M, n): row m's translation bound
     cum = np.concatenate([np.zeros((row.shape[0], 1)), np.cumsum(row, axis=1)], axis=1)  # cum[:, k] = rows 1..k
-    arms = np.ones_like(row)
+    arms = np.zeros((row.shape[0], n + 1, n))
     for j in range(n):
         if revolute[j]:
             # joint j + 1 sits at frame j's origin (standard; modified: frame j + 1's, closer)
-            arms[:, j] = np.max(cum[:, j + 1:] - cum[:, j:j + 1] + reach[j + 1:], axis=1)
+            arms[:, j + 1:, j] = cum[:, j + 1:] - cum[:, j:j + 1] + reach[j + 1:]
+        else:
+            arms[:, j + 1:, j] = 1.0
     return arms
+
+
+def lever_arms(checker, Qa: FloatArray, Qb: FloatArray) -> FloatArray:  # noqa: ANN001
+    """Per segment and joint (M, n): how far a point of the shapes moves per unit of joint
+    motion (m/rad for revolute joints, 1 for prismatic ones), valid along the segments
+    from Qa to Qb (M, n): the largest of :func:`link_lever_arms` over the links."""
+    return np.max(link_lever_arms(checker, Qa, Qb), axis=1)
 
 
 def check_path(checker, q_path, times: ArrayLike | None = None) -> PathCheck:  # noqa: ANN001

@@ -71,10 +71,10 @@ class _Part:
     closing: Callable[[FloatArray], FloatArray]
 
 
-def _parts(checker: Checker, radii: FloatArray) -> list[_Part]:
+def _parts(checker: Checker, radii: FloatArray, bounds: tuple[FloatArray, FloatArray]) -> list[_Part]:
     """The arm against the world (each point moves at most its bound) and, for a
     CollisionChecker that checks self-collision, the arm against itself (a pair of links
-    i < j closes at most by the bound of joints i+1..j), each asked of a checker of its
+    i < j closes at most by joints i+1..j times their lever arms for link j's shapes), each asked of a checker of its
     own kind; a checker with ``members`` as the groups of its members; another checker as
     one group whose pairs may close by twice the bound."""
     def world(dq: FloatArray) -> FloatArray:
@@ -82,20 +82,26 @@ def _parts(checker: Checker, radii: FloatArray) -> list[_Part]:
 
     members = getattr(checker, "members", None)
     if members is not None:  # a checker made of checkers (robot_sim.planning.carrying)
-        return [part for member in members for part in _parts(member, radii)]
+        return [part for member in members for part in _parts(member, radii, bounds)]
     if not all(hasattr(checker, key) for key in ("robot", "world", "self_collision")):
         return [_Part(checker.distance, lambda dq: 2.0 * world(dq))]
     robot, make = checker.robot, type(checker)
     outer = make(robot, checker.world, self_collision=False, padding=checker.padding)
     parts = [_Part(outer.distance, world)]
     if checker.self_collision:
+        from robot_sim.collision.path import link_lever_arms
+
         own = make(robot, type(checker.world)(floor=False), self_collision=True, padding=checker.padding)
         index = {name: k for k, name in enumerate(robot.link_names)}
-        pairs = np.array(sorted({tuple(sorted((index[a], index[b]))) for a, b in own.checked_pairs}), dtype=np.int64)
-        if pairs.size:
+        pairs = sorted({tuple(sorted((index[a], index[b]))) for a, b in own.checked_pairs})
+        if pairs:
+            lo, hi = bounds
+            arms = link_lever_arms(own, np.asarray(lo, dtype=float)[None], np.asarray(hi, dtype=float)[None])[0]
+            # pair (i, j), i < j: link j moves against link i by the joints i+1..j only
+            A = np.array([np.where(np.arange(robot.n_dofs) >= i, arms[j], 0.0) for i, j in pairs])
+
             def relative(dq: FloatArray) -> FloatArray:
-                cum = np.concatenate([np.zeros((dq.shape[0], 1)), np.cumsum(np.abs(dq) * radii, axis=1)], axis=1)
-                return np.max(cum[:, pairs[:, 1]] - cum[:, pairs[:, 0]], axis=1)
+                return np.max(np.abs(dq) @ A.T, axis=1)
 
             parts.append(_Part(own.distance, relative))
     return parts
@@ -108,7 +114,7 @@ class CheckCounter:
         self.checker = checker
         self.radii, self.resolution = motion_bound(checker, lo, hi)
         self.padding = float(getattr(checker, "padding", 0.0))
-        self.parts = _parts(checker, self.radii)
+        self.parts = _parts(checker, self.radii, (lo, hi))
         self.count = 0
         #: True: edges checked at the resolution of ``path_is_free`` (:meth:`along`);
         #: False: bisected only down to COARSE_FACTOR resolutions, a stretch not proven free
