@@ -30,9 +30,6 @@ Rows = NDArray[np.int64]
 
 #: Configurations between two first distance queries along an edge or a sampled path.
 COARSE_STRIDE = 64
-#: Coarse checks (searching) stop bisecting at stretches of this many resolutions and
-#: count an unproven one as a collision.
-COARSE_FACTOR = 16
 
 
 class Checker(Protocol):
@@ -116,10 +113,6 @@ class CheckCounter:
         self.padding = float(getattr(checker, "padding", 0.0))
         self.parts = _parts(checker, self.radii, (lo, hi))
         self.count = 0
-        #: True: edges checked at the resolution of ``path_is_free`` (:meth:`along`);
-        #: False: bisected only down to COARSE_FACTOR resolutions, a stretch not proven free
-        #: there counting as a collision (conservative and cheaper: the search's first try).
-        self.fine = True
 
     def colliding(self, Q: FloatArray) -> BoolArray:
         """(M,) bool: which rows of ``Q`` (M, n) are in collision (one batched call)."""
@@ -152,8 +145,7 @@ class CheckCounter:
 
         The knots are asked first; a stretch between two asked rows is proven free (module
         docstring) or its middle row is asked, level by level, until every stretch is
-        proven free or has no row inside (in coarse mode: until it is COARSE_FACTOR rows
-        long, then it counts as a collision).  Rows of a path known to collide, or with
+        proven free or has no row inside.  Rows of a path known to collide, or with
         ``first_only`` beyond its first collision, are not asked (False)."""
         M = rows.count
         hit = np.zeros(M, dtype=bool)
@@ -176,16 +168,11 @@ class CheckCounter:
         kn = rows.knots
         ask(kn)
         a, b = kn[:-1], kn[1:]
-        floor = 1 if self.fine else COARSE_FACTOR
         while a.size:
             pa = rows.path(a)
             keep = (b - a > 1) & (pa == rows.path(b)) & np.all(d[a] >= 0.0, axis=1) & (a < limit[pa])
             keep &= np.any(d[a] + d[b] <= closing[b] - closing[a], axis=1)
             a, b = a[keep], b[keep]
-            short = b - a <= floor  # coarse mode: an unproven short stretch counts as a hit
-            if short.any():
-                mark(a[short] + 1)
-                a, b = a[~short], b[~short]
             if not a.size:
                 break
             mid = (a + b) // 2
@@ -200,8 +187,7 @@ class CheckCounter:
 
     def free_fraction(self, qa: FloatArray, qb: FloatArray) -> float:
         """How far along the edge ``qa`` → ``qb`` it is free: the fraction in [0, 1] of the
-        last configuration before the first collision (1 when the edge is free; in coarse
-        mode, see :attr:`fine`, before the first stretch not proven free)."""
+        last configuration before the first collision (1 when the edge is free)."""
         rows = self._edge_rows(qa[None], qb[None])
         first = np.flatnonzero(self.along(rows, first_only=True))
         if not first.size:
@@ -209,8 +195,7 @@ class CheckCounter:
         return float((first[0] - 1) / (rows.count - 1)) if first[0] > 0 else 0.0
 
     def edges_free(self, QA: FloatArray, QB: FloatArray) -> BoolArray:
-        """(E,) bool: which edges ``QA[e]`` → ``QB[e]`` (E, n) are free, both ends
-        included (in coarse mode, see :attr:`fine`: proven free)."""
+        """(E,) bool: which edges ``QA[e]`` → ``QB[e]`` (E, n) are free, both ends included."""
         free = np.ones(QA.shape[0], dtype=bool)
         rows = self._edge_rows(QA, QB)
         free[rows.path(np.flatnonzero(self.along(rows)))] = False

@@ -4,10 +4,8 @@ shortcutting and smoothing) and its :class:`PathResult`.
 Every edge is a straight joint-space segment whose configurations are checked in
 batched calls at the continuous resolution of ``checker.path_is_free`` (see
 :mod:`robot_sim.planning.edges`: distances prove stretches free, the rest is bisected), so
-a returned path is free between its waypoints, not only at them.  The search runs first
-with the coarse, conservative version of that check and, if it finds nothing in half the
-time, again with the full one.  Joint values in rad or m, times in seconds.  No Qt, no
-OpenGL.
+a returned path is free between its waypoints, not only at them.  Joint values in rad or
+m, times in seconds.  No Qt, no OpenGL.
 """
 from __future__ import annotations
 
@@ -31,8 +29,6 @@ RANGE_FRACTION = 0.2
 MAX_STEP = 1.5
 #: A blocked extension stops this far (motion bound, m) before the obstacle.
 BACKOFF = 0.03
-#: Share of the time limit searched with coarse checks before searching with fine ones.
-COARSE_SHARE = 0.5
 #: Tolerance on the joint limits for start and goal [rad or m].
 LIMIT_TOL = 1e-9
 
@@ -149,7 +145,7 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     Bidirectional RRT-Connect samples uniformly inside the joint limits (unlimited revolute
     joints over [−π, π], widened to hold start and goal); each extension is one straight
     edge whose interpolated configurations are checked in batched calls at the
-    resolution of ``checker.path_is_free`` (coarsely first, module docstring).  The path found is then shortcut and smoothed
+    resolution of ``checker.path_is_free``.  The path found is then shortcut and smoothed
     (:mod:`robot_sim.planning.smoothing`), keeping it free.  The same ``seed`` gives the
     same path (the search is stopped by ``time_limit`` [s] only when it fails).
 
@@ -183,23 +179,13 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     if hits.any():
         which = " and ".join(w for w, h in zip(("start", "goal"), hits) if h)
         return result(False, None, f"{which} {'is' if hits.sum() == 1 else 'are'} in collision")
-    # search with the coarse, conservative checks for part of the time (their paths are
-    # proven free); if that fails, search again checking at the full resolution
-    counter.fine = False
     if counter.edges_free(qs[None], qg[None])[0]:
         return result(True, np.stack([qs, qg]), "straight joint-space line is free")
     rng = np.random.default_rng(seed)
-    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + COARSE_SHARE * limit)
-    if raw is not None:
-        short = shortcut(counter, raw, rng)
-    else:
-        counter.fine = True
-        raw, more = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
-        nodes += more
-        if raw is None:
-            return result(False, None, f"no path found within {limit:g} s ({nodes} tree nodes)")
-        short = shortcut(counter, raw, rng)
-    counter.fine = True
+    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
+    if raw is None:
+        return result(False, None, f"no path found within {limit:g} s ({nodes} tree nodes)")
+    short = shortcut(counter, raw, rng)
     path = smooth(counter, robot, short)
     return result(True, path, f"RRT-Connect: {nodes} tree nodes, {raw.shape[0]} waypoints shortcut to "
                               f"{short.shape[0]}, smoothed")
