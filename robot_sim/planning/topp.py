@@ -89,24 +89,27 @@ class _Lines:
 
 def _linearised(rows: Rows, x_ref: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Rows with d √x replaced by affine bounds valid for 0 <= x <= x_max: (a, b, g), each
-    (N+1, R·C).  d > 0: the tangent at ``x_ref`` (√x lies below every tangent).  d < 0:
-    the chords of √x on [0, x_max/4^(C−1)], ..., [x_max/4, x_max], one row each (√x lies
-    above each chord on its interval, and the rows together bound the term on all of
-    [0, x_max]).  Without viscous terms C = 1 and the rows are returned as they are."""
-    d = rows.d
-    if not d.any():
+    (N+1, R'), the rows without a viscous term anywhere first, as they are, then C rows
+    for each row with one.  d > 0: the tangent at ``x_ref`` (√x lies below every
+    tangent).  d < 0: the chords of √x on [0, x_max/4^(C−1)], ..., [x_max/4, x_max], one
+    row each (√x lies above each chord on its interval, and the rows together bound the
+    term on all of [0, x_max]).  Without viscous terms the rows are returned as they are."""
+    viscous = np.any(rows.d != 0.0, axis=0)
+    if not viscous.any():
         return rows.a, rows.b, rows.g
+    d = rows.d[:, viscous, None]
     ref = np.sqrt(np.maximum(x_ref, 1e-12))[:, None, None]
     ends = np.sqrt(rows.x_max)[:, None] * 2.0 ** -np.arange(SQRT_CHORDS, -1, -1)  # √ of the breakpoints
     ends[:, 0] = 0.0
     r0, r1 = ends[:, None, :-1], ends[:, None, 1:]
-    slope = np.where(d[:, :, None] > 0, 1.0 / (2.0 * ref), 1.0 / (r0 + r1))
-    offset = np.where(d[:, :, None] > 0, ref / 2.0, r0 * r1 / (r0 + r1))
-    M = rows.a.shape[0]
-    b = (rows.b[:, :, None] + d[:, :, None] * slope).reshape(M, -1)
-    g = (rows.g[:, :, None] - d[:, :, None] * offset).reshape(M, -1)
-    a = np.repeat(rows.a, SQRT_CHORDS, axis=1)
-    return a, b, g
+    slope = np.where(d > 0, 1.0 / (2.0 * ref), 1.0 / (r0 + r1))
+    offset = np.where(d > 0, ref / 2.0, r0 * r1 / (r0 + r1))
+    M, plain = rows.a.shape[0], ~viscous
+    b = (rows.b[:, viscous, None] + d * slope).reshape(M, -1)
+    g = (rows.g[:, viscous, None] - d * offset).reshape(M, -1)
+    a = np.repeat(rows.a[:, viscous], SQRT_CHORDS, axis=1)
+    return (np.hstack([rows.a[:, plain], a]), np.hstack([rows.b[:, plain], b]),
+            np.hstack([rows.g[:, plain], g]))
 
 
 def _interval_lines(rows: Rows, ds: FloatArray, x_ref: FloatArray, exact_own: bool) -> _Lines:
