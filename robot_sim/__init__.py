@@ -73,6 +73,8 @@ _EXPORTS = {
     "PathResult": "robot_sim.planning.rrt",
     "plan_to_pose": "robot_sim.planning.pose_goal",
     "retime": "robot_sim.planning.retime",
+    "InfeasiblePath": "robot_sim.planning.topp",
+    "qd_limits": "robot_sim.planning.cartesian",
     "qdd_limits": "robot_sim.planning.cartesian",
     "load_task": "robot_sim.planning.task_file",
     # geometry and collision
