@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from robot_sim.collision import CollisionChecker
+from robot_sim.collision.distance import shape_distance
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.shapes import Box, Sphere
 
@@ -53,3 +54,15 @@ def free_at(checker: CollisionChecker, path: np.ndarray, step: float = STEP) -> 
     if hasattr(checker, "members"):
         return all(free_at(member, path, step) for member in checker.members)
     return not bool(np.any(checker.in_collision(measured_samples(checker, np.asarray(path, dtype=float), step))))
+
+
+def straight_transport_clearance(plan) -> float:
+    """Smallest distance [m] between the task's wall and the object carried in a straight
+    line (poses interpolated element-wise, the orientation is the same at both ends) from
+    where the planned transport starts to where it ends: negative when a straight
+    transport would go through the wall."""
+    marks = plan.phase_times()
+    start, end = (plan.state_at(marks[p]).object_pose for p in ("transport", "place"))
+    wall = dict(plan.spec.obstacles)["wall"]
+    return min(shape_distance(plan.spec.object_shape_at(start + f * (end - start)), wall).distance
+               for f in np.linspace(0.0, 1.0, 41))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot
-from plan_helpers import free_at
+from plan_helpers import free_at, straight_transport_clearance
 from robot_sim.collision import CollisionChecker
 from robot_sim.collision.distance import shape_distance
 from robot_sim.kinematics import forward_kinematics
@@ -64,10 +64,7 @@ def test_the_arm_never_enters_the_world_and_a_straight_transport_would(name):
     carried = (plan.trajectory.t >= marks["transport"]) & (plan.trajectory.t <= marks["place"])
     assert free_at(carrying, plan.trajectory.q[carried][::20], step=2e-3)
     # the object carried straight from above the pick to above the place goes through the wall
-    start, end = (plan.state_at(marks[p]).object_pose for p in ("transport", "place"))
-    wall = dict(plan.spec.obstacles)["wall"]
-    straight = [start + f * (end - start) for f in np.linspace(0.0, 1.0, 41)]
-    assert min(shape_distance(plan.spec.object_shape_at(T), wall).distance for T in straight) < 0.0
+    assert straight_transport_clearance(plan) < 0.0
 
 
 def test_a_cartesian_segment_reaching_a_joint_limit_names_sample_time_and_joint():

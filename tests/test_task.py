@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from kin_helpers import ROBOT_NAMES, robot, sweep
+from plan_helpers import straight_transport_clearance
 from robot_sim.kinematics import forward_kinematics
+from robot_sim.planning.cartesian import qdd_limits
 from robot_sim.planning.pick_task import GRIPPER_CLEARANCE, PHASES, TaskError, default_plan, plan_pick
 from robot_sim.planning.task_file import TaskDefinitionError, load_task, task_toml
 
@@ -38,6 +40,9 @@ def test_default_pick_places_the_object_within_1mm(name):
     bottom = spec.object_pose[2, 3] - spec.object_size[2] / 2
     assert bottom == pytest.approx(spec.table_top[2], abs=1e-9)
     assert spec.table_top[2] > 0.0
+    # issue 19: no sample above the acceleration limit, and a wall that a straight transport hits
+    assert np.max(np.abs(plan.trajectory.qdd) / qdd_limits(arm)) <= 1.0 + 1e-6
+    assert "wall" in dict(spec.obstacles) and straight_transport_clearance(plan) < 0.0
 
 
 @pytest.mark.parametrize("name", ["ur5", "humanoid7"])
