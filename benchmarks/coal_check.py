@@ -10,8 +10,12 @@ the world's obstacles as coal shapes) must be at least the checker's padding.
 """
 from __future__ import annotations
 
-import coal
 import numpy as np
+
+try:
+    import coal
+except ImportError:  # an optional oracle: without it only the dense sampling works
+    coal = None
 
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Sphere
@@ -62,12 +66,14 @@ class CoalCheck:
         shapes = checker.shapes(q0)
         self.owner = [name for name, _ in shapes]
         self.link = np.array([index[name] for name in self.owner])
-        self.geom = [_geometry(s) for _, s in shapes]
         frames = forward_kinematics(self.robot, q0, all_frames=True)
         # farthest shape point from its link frame's origin, per shape
         self.reach = np.array([
             np.linalg.norm(np.asarray(s.pose)[:3, 3] - frames[k][:3, 3]) + _extent(s)
             for k, (_, s) in zip(self.link, shapes)])
+        if coal is None:
+            return
+        self.geom = [_geometry(s) for _, s in shapes]
         self.obstacles = [(name, _geometry(s), _transform(s)) for name, s in checker.world.obstacles]
         checked = {frozenset(p) for p in checker.checked_pairs}
         robot_names = set(self.owner)
