@@ -112,3 +112,12 @@ def test_command_line_world_and_collision(world, tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('[[obstacles]]\nname = "x"\nshape = "cone"\n')
     assert_one_line_error(run("--world", str(bad), "--print-dh"), "--world:", "cone")
+
+
+def test_a_pose_set_into_collision_is_flagged_without_the_display(world):
+    untouched = ViewerSession(load_robot("ur5"), world=load_world(world))
+    untouched.status_text("60 fps")
+    assert untouched._collision is None  # nothing posed: the checker is not even built
+    session = session_at(world, INTO_TABLE)  # as the sliders do
+    assert not session.options.show_collision
+    assert "IN COLLISION: link3 - table" in session.status_text("60 fps")

@@ -136,6 +136,9 @@ class ViewerSession:
     world: World | None = None
     _motion: Motion | None = field(default=None, init=False, repr=False)
     _collision: CollisionDisplay | None = field(default=None, init=False, repr=False)
+    #: Whether the joints were set (sliders, boxes, IK, --q): from then on the status bar
+    #: flags a pose in collision (the checker is loaded only when there is a pose to flag).
+    _posed: bool = field(default=False, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.state = RobotState(self.robot)
@@ -248,6 +251,7 @@ class ViewerSession:
         A shown IK target snaps to the new endeffector pose.
         """
         self.demo = None
+        self._posed = True
         if self.pick is not None:
             self.pick.playing = False
         if self.physical:
@@ -335,6 +339,7 @@ class ViewerSession:
         )
         if self.ik_result.success:
             self.state.set_q_des(self.ik_result.q)
+            self._posed = True
             self.update_kinematics()
         return self.ik_result.success
 
@@ -505,9 +510,9 @@ class ViewerSession:
     def status_text(self, fps_text: str) -> str:
         """Status bar text: robot name and frame rate, and a failed IK target's errors
         (the position error only for an arm whose IK places the tool without orienting it:
-        its rotation error is no failure), and a pose in collision while the collision
-        display is shown or the arm is simulated; the endeffector pose has its own
-        readout in the window."""
+        its rotation error is no failure), and a pose in collision once the joints were set
+        (sliders, IK), while the collision display is shown or while the arm is simulated;
+        the endeffector pose has its own readout in the window."""
         text = vs.STATUS_FORMAT.format(robot=self.robot.name, fps=fps_text)
         if self.target_tf is not None and not self.target_reachable:
             if ik_position_only_required(self.robot):
@@ -515,7 +520,7 @@ class ViewerSession:
             else:
                 text += vs.STATUS_TARGET_UNREACHABLE.format(
                     pos_err=self.ik_result.pos_err, rot_err_deg=math.degrees(self.ik_result.rot_err))
-        if self.options.show_collision or self.physical:  # a pose the sliders, IK or physics reached
+        if self._posed or self.options.show_collision or self.physical:  # reached by sliders, IK or physics
             text += self.collision.flag(self.state.q())
         if self._motion is not None:
             text += " | " + self._motion.status_text()
