@@ -409,8 +409,11 @@ class Simulation:
         step = None
         if type(controller) is ComputedTorque and controller.robot is self.robot and alone:
             # the control law inside the step call: one compiled call for both
+            q_des, qd_des, qdd_des = desired
+            if not type(q_des) is type(qd_des) is type(qdd_des) is np.ndarray:  # a reference's lists
+                q_des, qd_des, qdd_des = (np.asarray(x, dtype=float) for x in desired)
             step = self._stepper_of().step_computed_torque(
-                q[None], qd[None], *(np.asarray(x, dtype=float)[None] for x in desired), controller.kp, controller.kd,
+                q[None], qd[None], q_des[None], qd_des[None], qdd_des[None], controller.kp, controller.kd,
                 self.effort_limit, stops=self._limit_position,
             )
             command = step.command[0].copy()
