@@ -144,10 +144,11 @@ def bench_sweep(table: Any, seconds: Callable[[float], str]) -> None:
 
 def _resting_pair(robot: RobotParams) -> tuple[Simulation, Simulation, np.ndarray]:
     """Two passive simulations released at rest from home: one with joint 2 (index 1) on
-    a stop that gravity presses it onto (held through every sample), one without that stop."""
+    a stop that gravity presses it onto (held through every sample) and no other stop (so
+    no other joint's arrival enters the samples), one without stops."""
     q0 = robot.q_home.copy()
     n = robot.n_dofs
-    q_min, q_max = robot.q_min.copy(), robot.q_max.copy()
+    q_min, q_max = np.full(n, -np.inf), np.full(n, np.inf)
     falls_up = dynamics.forward_dynamics(robot, q0, np.zeros(n), np.zeros(n))[1] > 0
     (q_max if falls_up else q_min)[1] = q0[1]
     on_stop = dataclasses.replace(robot, q_min=q_min, q_max=q_max)

@@ -1016,7 +1016,7 @@ def energy(
 # ------------------------------------------------------------------ one time step
 
 #: Status per arm of :meth:`Stepper.step` (see there).
-STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL, STEP_CROSSED, STEP_AT_STOP, STEP_BAD_EFFORT = 0, 1, 2, 3, 4, 5
+STEP_OK, STEP_BAD_STATE, STEP_BAD_ACCEL, STEP_CROSSED, STEP_AT_STOP, STEP_BAD_EFFORT, STEP_ON_LIMIT = 0, 1, 2, 3, 4, 5, 6
 INTEGRATORS = ("rk4", "euler")
 
 
@@ -1094,7 +1094,8 @@ class Stepper:
         reaction at the start: ``held`` (N, n) bool names them, or, with ``stops``, the
         robot's joint limits do.  With ``stops`` an arm resting on stops (joints exactly
         on a limit at zero velocity whose reactions all push) is stepped with those joints
-        held and status :data:`STEP_OK`; an arm that starts on a stop moving into it, on a
+        held and status :data:`STEP_OK`, or :data:`STEP_ON_LIMIT` when a joint ends exactly
+        on a limit (a held one, or one that arrived exactly); an arm that starts on a stop moving into it, on a
         one-point range, or with a reaction that would pull is not stepped
         (:data:`STEP_AT_STOP`: the caller resolves it, ``control.joint_stops``); an arm
         whose step ends beyond a limit is :data:`STEP_CROSSED` (its row is the free step,
@@ -1242,4 +1243,5 @@ def _reference_step(
         q1 = out.q[idx]
         out.at_limit[idx] = (q1 == lo) | (q1 == hi)
         crossed = ok & ((q1 < lo) | (q1 > hi)).any(axis=1)
+        out.status[idx[ok & ~crossed & out.at_limit[idx].any(axis=1)]] = STEP_ON_LIMIT
         out.status[idx[crossed]] = STEP_CROSSED

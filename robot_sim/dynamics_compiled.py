@@ -38,7 +38,8 @@ NCOL = 29
 #: limit at the end; (with ``stops``) not stepped, its start on a stop needs what the
 #: kernel does not do (an impact, a one-point range, a release, or an arrival while held);
 #: (:func:`ct_step_batch`) the command was not finite.
-OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP, BAD_EFFORT = 0, 1, 2, 3, 4, 5
+#: (with ``stops``) stepped as OK, some joint exactly on a limit at the end.
+OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP, BAD_EFFORT, ON_LIMIT = 0, 1, 2, 3, 4, 5, 6
 _NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
 _INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
@@ -628,6 +629,8 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
             at[j] = x == lo or x == hi
             if x < lo or x > hi:
                 status = AT_STOP if any_held else CROSSED
+            elif at[j] and status == OK:
+                status = ON_LIMIT
     return status
 
 

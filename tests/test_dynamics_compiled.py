@@ -232,7 +232,7 @@ def test_the_stepper_holds_joints_resting_on_their_stops_and_leaves_the_rest_to_
     hi3[0] = q0[0] + 1e-3  # only joint 0 limited: env 3 crosses, from a start on no stop
     out = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, stops=True)
     status, q1, reaction, at = out.status.copy(), out.q.copy(), out.reaction.copy(), out.at_limit.copy()
-    assert status.tolist()[:3] == [dyn.STEP_OK, dyn.STEP_AT_STOP, dyn.STEP_AT_STOP]
+    assert status.tolist()[:3] == [dyn.STEP_ON_LIMIT, dyn.STEP_AT_STOP, dyn.STEP_AT_STOP]  # env 0 ends on its stop
     assert q1[0, pressed] == q0[pressed] and at[0].tolist() == [j == pressed for j in range(4)]
     named = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, held=np.eye(4, dtype=bool)[[pressed] * 5])
     assert np.array_equal(named.q[0], q1[0]) and np.array_equal(named.reaction[0], reaction[0])

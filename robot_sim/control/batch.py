@@ -266,8 +266,9 @@ class BatchSimulation:
         Simulation); arrivals, reactions and at-limit flags recorded; the environments
         still running returned (one the stops cannot resolve stops alone)."""
         status = result.status
-        stepped = active & (status == dynamics.STEP_OK)
-        touched = stepped & (self._on_stop | result.at_limit.any(axis=1))
+        on_limit = status == dynamics.STEP_ON_LIMIT
+        stepped = active & ((status == dynamics.STEP_OK) | on_limit)
+        touched = stepped & (self._on_stop | on_limit)
         self.limit_torque[touched] = np.where(self._on_stop[touched, None], result.reaction[touched], 0.0)
         self.at_limit[touched] = result.at_limit[touched]
         redo = active & ((status == dynamics.STEP_AT_STOP) | (status == dynamics.STEP_CROSSED))

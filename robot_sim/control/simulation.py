@@ -454,9 +454,9 @@ class Simulation:
                 q1, qd1, qdd = step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
                 if status == dynamics.STEP_CROSSED:
                     q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
-                elif self._any_at_limit or (self._limit_position and step.at_limit[0].any()):
+                elif self._any_at_limit or status == dynamics.STEP_ON_LIMIT:
                     reaction = step.reaction[0].copy() if self._any_at_limit else self._no_reaction
-                    stops = [reaction, [], step.at_limit[0].copy()]
+                    stops = [reaction, (), step.at_limit[0].copy(), bool(status == dynamics.STEP_ON_LIMIT)]
         elif self._any_at_limit:
             q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, f_tool)
         else:
@@ -480,9 +480,13 @@ class Simulation:
             raise _Diverged("the joint state became non-finite")
         if stops is not None:
             self.limit_torque, events, *at_limit = stops
-            self.events.extend(events)
-            self.at_limit = at_limit[0] if at_limit else (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
-            self._any_at_limit = bool(self.at_limit.any())
+            if events:
+                self.events.extend(events)
+            if at_limit:  # the stepper's flags and whether any is set
+                self.at_limit, self._any_at_limit = at_limit
+            else:
+                self.at_limit = (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
+                self._any_at_limit = bool(self.at_limit.any())
         self.q, self.qd, self.qdd = q1, qd1, qdd
         self.effort_command, self.effort = command, tau
         self.saturated = saturated
