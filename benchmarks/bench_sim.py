@@ -63,16 +63,20 @@ def _without_stops(robot: RobotParams) -> RobotParams:
     return dataclasses.replace(robot, q_min=np.full(n, -np.inf), q_max=np.full(n, np.inf))
 
 
-def alternated(runs: dict[str, Callable[[], object]], repeats: int) -> dict[str, list[float]]:
+def alternated(
+    runs: dict[str, Callable[[], object]], repeats: int, clock: Callable[[], float] = time.process_time
+) -> dict[str, list[float]]:
     """Seconds per call of each run, the runs alternated call by call (after one warm-up
-    round), so that a machine whose speed drifts slows all of them alike."""
+    round), so that a machine whose speed drifts slows all of them alike.  By default the
+    clock is this process's CPU time: on a machine shared with other jobs, time spent
+    descheduled would otherwise land on whichever sample it hits."""
     samples: dict[str, list[float]] = {key: [] for key in runs}
     for round_ in range(repeats + 1):
         for key, fn in runs.items():
-            start = time.perf_counter()
+            start = clock()
             fn()
             if round_:
-                samples[key].append(time.perf_counter() - start)
+                samples[key].append(clock() - start)
     return samples
 
 
@@ -80,7 +84,7 @@ def bench_one_arm(table: Any, measure: Callable[..., list[float]], median_iqr: C
     """Passive and computed-torque steps alternated in one run.  The passive arm falls, so
     with the shipped limits it reaches stops within the window (and its step then includes
     arrivals and resting): the ratio is taken against the passive arm without stops, and
-    the shipped-limits figure is reported beside it."""
+    the shipped-limits figure is reported beside it (CPU time of this process)."""
     for name in ROBOTS:
         robot = load_robot(name)
         sims = {"passive": _simulation(_without_stops(robot), False), "limits": _simulation(robot, False),
@@ -156,10 +160,11 @@ def _resting_pair(robot: RobotParams) -> tuple[Simulation, Simulation, np.ndarra
     return Simulation(on_stop), Simulation(free), q0
 
 
-def bench_resting_step(table: Any, median_iqr: Callable, us: Callable[[float], str], repeats: int = 15) -> None:
+def bench_resting_step(table: Any, median_iqr: Callable, us: Callable[[float], str], repeats: int = 41) -> None:
     """Step time with a joint resting on its stop (held: the constrained step and the
     reaction check) against the free step, passive humanoid7, 1 kHz RK4; the two are
-    alternated sample by sample, each sample STEPS steps from the same rest state."""
+    alternated sample by sample, each sample STEPS steps from the same rest state (CPU
+    time of this process)."""
     held, free, q0 = _resting_pair(load_robot("humanoid7"))
 
     def run(sim: Simulation) -> None:
@@ -194,7 +199,7 @@ def bench_cold_start(table: Any, median_iqr: Callable, repeats: int = 3) -> None
                 cmd, check=True, cwd=ROOT, env=dict(env, NUMBA_CACHE_DIR=tempfile.mkdtemp(dir=tmp))
             ),
         }
-        samples = alternated(runs, repeats)
+        samples = alternated(runs, repeats, time.perf_counter)  # wall time: the runs are child processes
     for key, what in (("warm", "numba cache filled"), ("cold", "empty numba cache, every kernel compiled")):
         med, iqr = median_iqr(samples[key])
         table.add(f"`simulator.py --motion ct --screenshot` start to PNG, {what}", f"{med:.2f} s", f"{iqr:.2f} s",
