@@ -168,17 +168,19 @@ def test_the_posture_converges_in_the_null_space_while_the_tool_holds(name: str)
     assert np.abs(sim.q - rob.q_home).max() > 0.05  # it moved: the self-motion was used
 
 
-@pytest.mark.parametrize("name", ["ur5", "panda", "humanoid7"])
-def test_impedance_settles_at_the_displacement_k_inverse_f(name: str) -> None:
-    """A constant wrench F at the tool: after 3 s the tool sits at x_d + K⁻¹F (position
-    and rotation; e = −K⁻¹F) to 1e-5 (measured: below 1e-6), at rest."""
+@pytest.mark.parametrize("name, bandwidth, steps", [("panda", 4.0, 1000),  # the default suite's: 5 s of CPU
+                                                    *(pytest.param(name, 2.0, 3000, marks=pytest.mark.slow)
+                                                      for name in ("ur5", "panda", "humanoid7"))])
+def test_impedance_settles_at_the_displacement_k_inverse_f(name: str, bandwidth: float, steps: int) -> None:
+    """A constant wrench F at the tool: after 1 s at 4 Hz (3 s at 2 Hz) the tool sits at
+    x_d + K⁻¹F (position and rotation; e = −K⁻¹F) to 1e-5 (measured: below 3e-6), at rest."""
     rob = frictionless(name)
     T_d = forward_kinematics(rob, rob.q_home)
-    imp = make_controller("impedance", rob)
+    imp = make_controller("impedance", rob, bandwidth=bandwidth)
     sim = Simulation(rob, None, imp, reference=lambda t: (T_d, np.zeros(6), np.zeros(6)))
     F = np.array([5.0, -3.0, 4.0, 0.3, -0.2, 0.1])
     sim.set_tool_wrench(F)
-    sim.step(3000)
+    sim.step(steps)
     displacement = -_error(T_d, forward_kinematics(rob, sim.q))
     expected = np.linalg.solve(imp.K, F)
     assert np.linalg.norm(expected[:3]) > 1e-3
@@ -186,6 +188,7 @@ def test_impedance_settles_at_the_displacement_k_inverse_f(name: str) -> None:
     assert np.abs(sim.qd).max() < 1e-4
 
 
+@pytest.mark.slow  # 3 s of a tool wrench: about 12 s of CPU
 def test_impedance_with_a_full_stiffness_matrix_and_scalar_pairs() -> None:
     """A 6×6 K coupling force and rotation, D as a (translational, rotational) pair."""
     rob = frictionless("ur5")
@@ -202,12 +205,14 @@ def test_impedance_with_a_full_stiffness_matrix_and_scalar_pairs() -> None:
     np.testing.assert_allclose(-_error(T_d, forward_kinematics(rob, sim.q)), np.linalg.solve(K, F), atol=1e-5)
 
 
-@pytest.mark.parametrize("null_space", [None, "home"])
-@pytest.mark.parametrize("name", ["ur5", "panda", "humanoid7"])
+@pytest.mark.parametrize("name, null_space", [("panda", "home"), *(pytest.param(name, posture, marks=pytest.mark.slow)
+                                              for name in ("ur5", "panda", "humanoid7") for posture in (None, "home")
+                                              if (name, posture) != ("panda", "home"))])
 def test_impedance_never_gains_energy(name: str, null_space) -> None:
     """Fixed reference, no force, from rest 0.05 rad off on every joint: kinetic plus
     spring energy (½ q̇ᵀMq̇ + ½ eᵀKe) never rises from one step to the next by more than
-    1e-9 of its start (measured: it falls every step), over 2 s."""
+    1e-9 of its start (measured: it falls every step), over 1 s, and ends below 1e-3 of
+    it."""
     rob = frictionless(name)
     T_d = forward_kinematics(rob, rob.q_home)
     imp = make_controller("impedance", rob, null_space=null_space)
@@ -218,7 +223,7 @@ def test_impedance_never_gains_energy(name: str, null_space) -> None:
         return dynamics.energy(rob, sim.q, sim.qd)[0] + 0.5 * e @ imp.K @ e
 
     energies = [stored()]
-    for _ in range(2000):
+    for _ in range(1000):
         sim.step()
         energies.append(stored())
     assert max(np.diff(energies)) <= 1e-9 * energies[0]
@@ -300,17 +305,21 @@ def test_osc_follows_a_planned_cartesian_line_through_its_poses() -> None:
     assert worst < 1e-3, worst
 
 
-def test_task_controllers_follow_the_tool_pose_of_the_desired_joints_without_a_reference() -> None:
+@pytest.mark.parametrize("mode, bandwidth, steps", [("osc", 5.0, 1000), ("resolved_rate", 5.0, 1000),
+                                                    pytest.param("impedance", 2.0, 6000, marks=pytest.mark.slow)])
+def test_task_controllers_follow_the_tool_pose_of_the_desired_joints_without_a_reference(
+    mode: str, bandwidth: float, steps: int
+) -> None:
     """The sliders' path: with no reference a task controller tracks FK(q_des); on the
-    non-redundant UR5 the joints arrive at q_des too."""
+    non-redundant UR5 the joints arrive at q_des too.  (Impedance stays at 2 Hz: its
+    default rotational damping at 5 Hz is more than the UR5's light wrist takes at 1 kHz.)"""
     rob = robot("ur5")
-    for mode in ("osc", "impedance", "resolved_rate"):
-        state = RobotState(rob)
-        goal = rob.q_home + np.array([0.2, -0.1, 0.15, 0.1, -0.2, 0.1])
-        state.set_q_des(goal)
-        sim = Simulation(rob, state, make_controller(mode, rob))
-        sim.step(6000)
-        np.testing.assert_allclose(sim.q, goal, atol=1e-4, err_msg=mode)
+    state = RobotState(rob)
+    goal = rob.q_home + np.array([0.2, -0.1, 0.15, 0.1, -0.2, 0.1])
+    state.set_q_des(goal)
+    sim = Simulation(rob, state, make_controller(mode, rob, bandwidth=bandwidth))
+    sim.step(steps)
+    np.testing.assert_allclose(sim.q, goal, atol=1e-4)
 
 
 @pytest.mark.parametrize("mode", ["osc", "impedance", "resolved_rate"])

@@ -70,6 +70,7 @@ def test_the_circle_demo_under_osc_is_a_cartesian_reference(monkeypatch: pytest.
     assert session.motion.sim.reference is None
 
 
+@pytest.mark.slow  # 8 s of impedance with the pull: about 25 s of CPU
 def test_the_pull_under_impedance_yields_by_f_over_k_and_springs_back() -> None:
     """Shift-drag pull: the spring's force F settles the tool at the displacement K⁻¹F of
     the impedance (to 1e-5 m); released, the tool returns to its pose (to 1e-5 m)."""

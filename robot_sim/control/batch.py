@@ -8,6 +8,14 @@ by a ``dynamics.Stepper`` (one compiled call), velocity limits, joint limits as 
 stops, divergence.  So environment i of a batch ends bit for bit where a ``Simulation``
 with the same robot, gains, reference and initial state ends after the same steps.
 
+Task-space controllers (``osc``, ``impedance``, ``resolved_rate``: robot_sim/control/
+task_space.py, batched over (N, n) states) follow the tool: a task reference gives one or
+``n_envs`` desired poses, twists and accelerations, and without one they follow the tool
+motion of the desired joints, as in ``Simulation``.  Operational space and impedance are
+continuous-time laws evaluated at every integration stage of the arms off their stops
+(NumPy, batched), so an environment equals a ``Simulation`` to round-off (about 1e-12)
+rather than bit for bit; on a stop their start effort is held over the step, as there.
+
 Per environment: the reference (shared (n,) or per environment (n_envs, n)), the gains
 (one ``Gains`` for all or a sequence of one per environment), and what happened: an
 environment whose state or effort stops being finite stops alone and
@@ -27,11 +35,17 @@ from numpy.typing import ArrayLike, NDArray
 from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, Controller, Gains
 from robot_sim.control.factory import make_controller
-from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, stop_message
+from robot_sim.control.reference import is_task, task_from_joints
+from robot_sim.control.simulation import (
+    DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, runge_kutta, stop_message,
+)
+from robot_sim.control.task_space import TASK_MODES
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
-#: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s].
+#: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s];
+#: for a task-space controller also (pose_d, twist_d, accel_d): (4, 4) or (n_envs, 4, 4)
+#: [m], (6,) or (n_envs, 6) [m/s; rad/s] and [m/s²; rad/s²], world frame.
 BatchReference = Callable[[float], tuple[ArrayLike, ArrayLike, ArrayLike]]
 
 
@@ -39,18 +53,6 @@ def _row_finite(X: FloatArray) -> NDArray[np.bool_]:
     """Per row: every entry finite, by the sum of squares as ``Simulation`` tests a vector
     (a row whose squares overflow counts as diverged there too)."""
     return np.isfinite(np.einsum("ij,ij->i", X, X))
-
-
-def _sampled_joint_space(controller: Controller) -> Controller:
-    """``controller`` if it is a sampled joint-space controller (what the batch steps);
-    ValueError for a task-space one (osc, impedance, resolved rate: evaluated at every
-    stage by ``Simulation``; their ``torque`` takes (N, n) states for a batched loop)."""
-    if controller.space != "joint" or controller.continuous:
-        raise ValueError(
-            f"BatchSimulation steps the joint-space controllers (passive, pd, pdg, ct); {controller.mode} is a "
-            "task-space controller: run it with Simulation (its torque() is batched over (N, n) states)"
-        )
-    return controller
 
 
 def batched_controller(robot: RobotParams, controller: str | Controller, gains: Gains | Sequence[Gains] | None,
@@ -61,10 +63,11 @@ def batched_controller(robot: RobotParams, controller: str | Controller, gains: 
     if isinstance(controller, Controller):
         if gains is not None:
             raise ValueError("gains go with a motion mode name, not with a Controller instance")
-        _sampled_joint_space(controller)
         return controller
     if gains is None or isinstance(gains, Gains):
-        return _sampled_joint_space(make_controller(controller, robot, gains))
+        return make_controller(controller, robot, gains)
+    if controller in TASK_MODES:
+        raise ValueError(f"the {controller} controller takes one Gains for all environments, not one per environment")
     gains = list(gains)
     if len(gains) != n_envs or not all(isinstance(g, Gains) for g in gains):
         raise ValueError(f"gains must be one Gains or a sequence of {n_envs} (one per environment), got {len(gains)} items")
@@ -72,7 +75,7 @@ def batched_controller(robot: RobotParams, controller: str | Controller, gains: 
         kp=np.stack([g.kp for g in gains]), kd=np.stack([g.kd for g in gains]),
         omega=gains[0].omega, zeta=gains[0].zeta,
     )
-    ctrl = _sampled_joint_space(make_controller(controller, robot, stacked))
+    ctrl = make_controller(controller, robot, stacked)
     if isinstance(ctrl, ComputedTorque):  # Kp = ω², Kd = 2ζω per environment, as ComputedTorque forms them
         ctrl.kp = np.array([[g.omega**2] for g in gains])
         ctrl.kd = np.array([[2.0 * g.zeta * g.omega] for g in gains])
@@ -82,9 +85,10 @@ def batched_controller(robot: RobotParams, controller: str | Controller, gains: 
 class BatchSimulation:
     """``n_envs`` arms of ``robot`` (which needs inertial data) stepped together.
 
-    ``controller``: a motion mode (``"passive"``, ``"pd"``, ``"pdg"``, ``"ct"``) built with
-    ``gains`` (default: ``control.control_gains(robot)``; a sequence gives one per
-    environment), or a ``Controller`` whose ``torque`` takes (n_envs, n) arrays.
+    ``controller``: a motion mode (``"passive"``, ``"pd"``, ``"pdg"``, ``"ct"``, or in task
+    space ``"osc"``, ``"impedance"``, ``"resolved_rate"``) built with ``gains`` (default:
+    ``control.control_gains(robot)``; a sequence gives one per environment, joint modes
+    only), or a ``Controller`` whose ``torque`` takes (n_envs, n) arrays.
     ``integrator`` ``"rk4"`` or ``"euler"``; ``dt`` the fixed step [s].  The arms start at
     the robot's home at rest (see :meth:`set_state`) with the home as the desired pose
     (see :meth:`set_reference`).
@@ -169,6 +173,7 @@ class BatchSimulation:
         self._on_stop = self.at_limit.any(axis=1)
         self.limit_torque = np.zeros_like(self.q)
         self.stopped = [None] * self.n_envs
+        self.controller.reset(self.q.copy(), self.dt)
 
     def set_reference(self, q: ArrayLike | None = None, qd: ArrayLike | None = None, qdd: ArrayLike | None = None) -> None:
         """Constant desired values (those given), shared (n,) or per environment
@@ -200,23 +205,48 @@ class BatchSimulation:
                 active = self.running
                 if not active.any():
                     break
-                if self.reference is not None:
-                    self._take_reference(self.time[int(np.argmax(active))])
-                self._step(active)
+                t = float(self.time[int(np.argmax(active))])
+                self._step(active, self._desired_at(t), t)
                 taken += 1
         return taken
 
-    def _take_reference(self, t: float) -> None:
-        q, qd, qdd = self.reference(t)
+    def _take_reference(self, t: float) -> tuple:
+        """The reference at time t [s]: task values as given, joint values as (n_envs, n)
+        rows, which become the desired joint values."""
+        values = tuple(self.reference(t))
+        if self.controller.space == "task" and is_task(values, self.robot.n_dofs):
+            return values
+        q, qd, qdd = values
         self.q_des, self.qd_des, self.qdd_des = (self._rows(x, name) for x, name in zip((q, qd, qdd), ("q_des", "qd_des", "qdd_des")))
+        return self.q_des, self.qd_des, self.qdd_des
+
+    def _desired_at(self, t: float) -> Callable[[float], tuple]:
+        """The controller's desired values as a function of time (the step's start t [s]
+        and its stages): the reference's, or the desired joints' held over the step; for a
+        task-space controller their tool motion when they are joints."""
+        task = self.controller.space == "task"
+        joints = self._take_reference(t) if self.reference is not None else (self.q_des, self.qd_des, self.qdd_des)
+        if task and not is_task(joints, self.robot.n_dofs):
+            joints = task_from_joints(self.robot, *joints)
+        if self.reference is None or not (task and self.controller.continuous):
+            return lambda _time: joints
+        start = joints
+
+        def at(time: float) -> tuple:
+            if time == t:
+                return start
+            values = tuple(self.reference(time))
+            return values if is_task(values, self.robot.n_dofs) else task_from_joints(self.robot, *(self._rows(x, "reference") for x in values))
+
+        return at
 
     def _stop(self, envs: NDArray[np.int64], reason: Callable[[int], str]) -> None:
         for i in envs:
             self.stopped[i] = stop_message(self.time[i], reason(int(i)))
 
-    def _step(self, active: NDArray[np.bool_]) -> None:
+    def _step(self, active: NDArray[np.bool_], desired_at: Callable[[float], tuple], t: float) -> None:
         q, qd = self.q, self.qd
-        command = np.array(np.broadcast_to(self.controller.torque(q, qd, self.q_des, self.qd_des, self.qdd_des), q.shape))
+        command = np.array(np.broadcast_to(self.controller.torque(q, qd, *desired_at(t)), q.shape))
         bad = active & ~_row_finite(command)
         mode = self.controller.mode
         self._stop(np.flatnonzero(bad), lambda i: f"the {mode} controller returned a non-finite effort {command[i]}")
@@ -229,7 +259,11 @@ class BatchSimulation:
             if qdd_start is not None:
                 qdd_start = np.array(np.broadcast_to(qdd_start, q.shape), dtype=float)
                 known = ~saturated.any(axis=1)
-        result = self._stepper.step(q, qd, tau, qdd_start, known, active, stops=self._limit_position)
+        continuous = self.controller.continuous
+        stepped = active & self._on_stop if continuous else active  # the others: the law at every stage
+        result = self._stepper.step(q, qd, tau, qdd_start, known, stepped, stops=self._limit_position)
+        if continuous and (active & ~self._on_stop).any():
+            self._continuous_step(active & ~self._on_stop, q, qd, tau, qdd_start, known, desired_at, t, result)
         for status, why in ((dynamics.STEP_BAD_STATE, "the joint state became non-finite"),
                             (dynamics.STEP_BAD_ACCEL, "the joint acceleration became non-finite")):
             failed = active & (result.status == status)
@@ -255,6 +289,55 @@ class BatchSimulation:
         self.velocity_limited = np.where(rows, velocity_limited, self.velocity_limited)
         self.time[ok] += self.dt
         self.steps[ok] += 1
+
+    def _continuous_step(
+        self, free: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, qdd_start: FloatArray | None,
+        known: NDArray[np.bool_] | None, desired_at: Callable[[float], tuple], t: float, result: dynamics.StepResult,
+    ) -> None:
+        """The step of the ``free`` environments under a continuous-time controller, as
+        ``Simulation`` takes it stage by stage: the law at every stage on the desired
+        values at the stage's time, its own closed-loop acceleration on an exact model
+        without effort limits, else forward dynamics of its (saturated) effort.  Written
+        into ``result`` with the status the stepper would give (crossed a limit, a
+        non-finite state or acceleration)."""
+        controller, robot = self.controller, self.robot
+        rows = free[:, None]
+        bad = np.zeros(self.n_envs, dtype=np.int8)
+
+        def accel(offset: float, Qs: FloatArray, QDs: FloatArray) -> FloatArray:
+            ok = _row_finite(Qs) & _row_finite(QDs)
+            bad[free & ~ok & (bad == 0)] = dynamics.STEP_BAD_STATE
+            use = rows & ok[:, None]
+            Qs, QDs = np.where(use, Qs, q), np.where(use, QDs, qd)  # rows not stepped: finite stand-ins
+            desired = desired_at(t + offset)
+            if self._model_known and not self._limit_effort:
+                a = controller.acceleration(Qs, QDs, *desired)
+            else:
+                effort = controller.torque(Qs, QDs, *desired)
+                clipped = free & (np.abs(effort) > self.effort_limit).any(axis=1)
+                effort = np.clip(effort, -self.effort_limit, self.effort_limit)
+                own = controller.commanded_acceleration() if self._model_known else None
+                if own is None:
+                    a = dynamics.forward_dynamics(robot, Qs, QDs, effort)
+                else:  # forward dynamics only where the effort was clipped
+                    a = np.array(own, dtype=float)
+                    if clipped.any():
+                        a[clipped] = dynamics.forward_dynamics(robot, Qs[clipped], QDs[clipped], effort[clipped])
+            bad[free & ~_row_finite(a) & (bad == 0)] = dynamics.STEP_BAD_ACCEL
+            return a
+
+        a1 = qdd_start
+        if a1 is None or known is None or not known[free].all():
+            start = dynamics.forward_dynamics(robot, q, qd, tau)
+            a1 = start if a1 is None or known is None else np.where(known[:, None], a1, start)
+        q1, qd1, qdd1 = runge_kutta(self.integrator, q, qd, self.dt, a1, accel)
+        result.q[free], result.qd[free], result.qdd[free] = q1[free], qd1[free], qdd1[free]
+        lo, hi = robot.q_min, robot.q_max
+        crossed = ((q1 < lo) | (q1 > hi)).any(axis=1) if self._limit_position else np.zeros(self.n_envs, bool)
+        result.status[free] = np.where(bad[free] != 0, bad[free], np.where(crossed[free], dynamics.STEP_CROSSED,
+                                                                             dynamics.STEP_OK))
+        if self._limit_position:
+            result.at_limit[free] = (q1[free] == lo) | (q1[free] == hi)
 
     def _through_stops(
         self, active: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, result: dynamics.StepResult

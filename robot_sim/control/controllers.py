@@ -153,11 +153,11 @@ class Controller:
         return None
 
     def integrate(self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
-                  desired_at: Any, limit: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+                  desired_at: Any, limit: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, bool] | None:
         """A continuous controller may integrate its own closed loop over one step on its
         model (see ``OperationalSpace.integrate``): (q, q̇) after it, the acceleration and
-        the effort at its start; None (the default) lets the simulation step it stage by
-        stage."""
+        the effort at its start, and whether it ended beyond the joint limits; None (the
+        default) lets the simulation step it stage by stage."""
         return None
 
     def acceleration(self, q: FloatArray, qd: FloatArray, *desired: FloatArray) -> FloatArray | None:

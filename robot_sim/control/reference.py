@@ -32,11 +32,22 @@ Desired = tuple
 
 
 def task_from_joints(robot: RobotParams, q: FloatArray, qd: FloatArray, qdd: FloatArray) -> tuple:
-    """The tool motion of the joint motion (q, q̇, q̈) (n,): pose T(q), twist J q̇ and
-    acceleration J q̈ + J̇ q̇ (world frame), followed by the joint motion itself (the
-    posture a task-space controller then tracks in its null space)."""
+    """The tool motion of the joint motion (q, q̇, q̈) (n,) or (N, n): pose T(q), twist J q̇
+    and acceleration J q̈ + J̇ q̇ (world frame; (4, 4), (6,), (6,) or one per row), followed
+    by the joint motion itself (the posture a task-space controller then tracks in its
+    null space)."""
     T, J, jd = tool_kinematics(robot, q, qd)
-    return T, J @ qd, J @ qdd + jd, (q, qd, qdd)
+    twist = np.matmul(J, qd[..., None])[..., 0]
+    return T, twist, np.matmul(J, qdd[..., None])[..., 0] + jd, (q, qd, qdd)
+
+
+def is_task(values: tuple, n: int) -> bool:
+    """True if ``values`` (three arrays, one or N of each) are task values (pose
+    (..., 4, 4), twist, acceleration) rather than joint values (q, q̇, q̈) (..., n) of an
+    n-joint arm: by the pose's shape, and for n = 4, where N joint rows of 4 look like a
+    pose, by the twist's 6 values."""
+    pose_like = np.shape(getattr(values[0], "mat", values[0]))[-2:] == (4, 4)
+    return pose_like and (n != 4 or np.shape(values[1])[-1:] != (4,))
 
 
 def fixed_pose(pose: Any) -> Callable[[float], Desired]:

@@ -77,6 +77,27 @@ FloatArray = NDArray[np.float64]
 #: A stage's joint acceleration from (time offset in the step [s], q, q̇).
 _StageAccel = Callable[[float, FloatArray, FloatArray], FloatArray]
 
+
+def runge_kutta(
+    integrator: str, q: FloatArray, qd: FloatArray, h: float, a1: FloatArray, accel: _StageAccel
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """(q, qd) after a step of ``h`` [s] of ``integrator`` ("rk4" or "euler":
+    semi-implicit) from (q, qd) (n,) or (N, n) with start acceleration ``a1``, and a1;
+    ``accel(offset, q, qd)`` gives a later stage's acceleration, ``offset`` its time in
+    the step."""
+    if integrator == "euler":
+        qd1 = qd + h * a1
+        return q + h * qd1, qd1, a1
+    v2 = qd + 0.5 * h * a1
+    a2 = accel(0.5 * h, q + 0.5 * h * qd, v2)
+    v3 = qd + 0.5 * h * a2
+    a3 = accel(0.5 * h, q + 0.5 * h * v2, v3)
+    v4 = qd + h * a3
+    a4 = accel(h, q + h * v3, v4)
+    q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
+    qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
+    return q1, qd1, a1
+
 DEFAULT_DT = 1e-3
 INTEGRATORS = dynamics.INTEGRATORS
 #: At most this much simulated time per :meth:`Simulation.advance` call [s]: when the
@@ -236,6 +257,9 @@ class Simulation:
         self.pull_force = np.zeros(3)
         self._stepper: dynamics.Stepper | None = None
         self._wrench: FloatArray | None = None
+        self._unsaturated = np.zeros(robot.n_dofs, dtype=bool)  # never written
+        #: The desired joints (q, q̇, q̈) last followed in task space and their tool motion.
+        self._task_of_joints: tuple | None = None
         #: The desired tool pose (4, 4) of the last step under a task-space controller.
         self.desired_pose: FloatArray | None = None
         self.load_state()
@@ -385,8 +409,11 @@ class Simulation:
         if self._reference is not None:
             return self._reference.for_space(space)
         fixed = (self.state.q_des(), self.state.qd_des(), self.state.qdd_des())
-        if space == "task":
-            fixed = task_from_joints(self.robot, *fixed)
+        if space == "task":  # the tool motion of the same joints as last call is not recomputed
+            cached = self._task_of_joints
+            if cached is None or not all(np.array_equal(a, b) for a, b in zip(cached[0], fixed)):
+                cached = self._task_of_joints = (fixed, task_from_joints(self.robot, *fixed))
+            fixed = cached[1]
         return lambda _time: fixed
 
     # ------------------------------------------------------------------ one step
@@ -400,11 +427,11 @@ class Simulation:
         if controller.continuous and not self._any_at_limit and alone:
             fused = controller.integrate(q, qd, t, self.dt, self._integrator, desired_at, self.effort_limit)
             if fused is not None:  # the whole step in one call of the controller, within every limit
-                q1, qd1, qdd, tau = fused
+                q1, qd1, qdd, tau, crossed = fused
                 stops = None
-                if self._limit_position and self._crosses(q1):
+                if crossed:
                     q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
-                self._finish(q1, qd1, qdd, tau, tau, np.zeros(self.robot.n_dofs, dtype=bool), stops)
+                self._finish(q1, qd1, qdd, tau, tau, self._unsaturated, stops)
                 return desired
         step = None
         if type(controller) is ComputedTorque and controller.robot is self.robot and alone:
@@ -437,7 +464,7 @@ class Simulation:
         if step is None and controller.continuous and not self._any_at_limit:  # the law at every stage
             if known is None or not _finite(known):
                 known = self._accel(q, qd, tau, f_tool)
-            q1, qd1, qdd = self._runge_kutta(q, qd, self.dt, known, self._continuous_accel(desired_at, t, f_tool))
+            q1, qd1, qdd = runge_kutta(self._integrator, q, qd, self.dt, known, self._continuous_accel(desired_at, t, f_tool))
             if self._limit_position and self._crosses(q1):
                 q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
         elif step is not None or plain:  # one stepper call; it holds joints resting on their stops itself
@@ -584,26 +611,8 @@ class Simulation:
         reaction = None
         if a1 is None or locked is not None or not _finite(a1):
             a1, reaction = self._dynamics(q, qd, tau, f_tool, locked)
-        return self._runge_kutta(q, qd, h, a1, lambda _offset, qs, qds: self._accel(qs, qds, tau, f_tool, locked)), reaction
+        return runge_kutta(self._integrator, q, qd, h, a1, lambda _offset, qs, qds: self._accel(qs, qds, tau, f_tool, locked)), reaction
 
-    def _runge_kutta(
-        self, q: FloatArray, qd: FloatArray, h: float, a1: FloatArray, accel: _StageAccel
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """(q, qd) after a step of ``h`` of the integrator from (q, qd) with start
-        acceleration ``a1``, and a1; ``accel(offset, q, qd)`` gives a later stage's
-        acceleration, ``offset`` its time in the step."""
-        if self._integrator == "euler":
-            qd1 = qd + h * a1
-            return q + h * qd1, qd1, a1
-        v2 = qd + 0.5 * h * a1
-        a2 = accel(0.5 * h, q + 0.5 * h * qd, v2)
-        v3 = qd + 0.5 * h * a2
-        a3 = accel(0.5 * h, q + 0.5 * h * v2, v3)
-        v4 = qd + h * a3
-        a4 = accel(h, q + h * v3, v4)
-        q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
-        qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
-        return q1, qd1, a1
 
     # ------------------------------------------------------------------ joint stops
     def _crosses(self, q: FloatArray) -> bool:

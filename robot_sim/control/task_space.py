@@ -267,14 +267,15 @@ class OperationalSpace(TaskSpaceController):
     def integrate(
         self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
         desired_at: Callable[[float], tuple], limit: FloatArray,
-    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray] | None:
+    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, bool] | None:
         """One step of length ``h`` [s] of the closed loop on this controller's model from
         (q, q̇) (n,) at time ``t``, by ``integrator`` ("rk4" or "euler") with the law
         evaluated at every stage on ``desired_at(stage time)``: (q, q̇) after it, the
-        acceleration and the effort [N·m or N] at its start.  One compiled call
-        (task_space_compiled.osc_step); None where it does not apply (the NumPy backend,
-        non-finite values, an effort beyond ``limit`` (n,) at some stage): then the caller
-        steps the law stage by stage."""
+        acceleration and the effort [N·m or N] at its start, and whether the step ended
+        beyond the robot's joint limits.  One compiled call (task_space_compiled.osc_step);
+        None where it does not apply (the NumPy backend, non-finite values, an effort
+        beyond ``limit`` (n,) at some stage): then the caller steps the law stage by
+        stage."""
         n = self.robot.n_dofs
         if dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
             return None
@@ -294,11 +295,11 @@ class OperationalSpace(TaskSpaceController):
             self._limit = (limit, np.ascontiguousarray(limit, dtype=float), bool(np.isfinite(limit).any()))
         status = step(table, g0, self._limit[1], self._limit[2], K, modified, base, tool, rows, self.weights,
                       integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
-                      self.eps_inertia, q1, qd1, a1, tau, e)
-        if status != 0:
+                      self.eps_inertia, self.robot.q_min, self.robot.q_max, q1, qd1, a1, tau, e)
+        if status not in (0, 3):
             return None
         self.error, self._qdd = e, a1
-        return q1, qd1, a1, tau
+        return q1, qd1, a1, tau, status == 3
 
     def _pack(self, desired: tuple) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """TD (3, 4, 4), VD, AD (3, 6) and the posture's POST (3, 3, n) of three desired values."""

@@ -304,8 +304,14 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
         for i in range(m):
             for k in range(m):
                 W[i, k] = S[i, k] * weights[i] * weights[k]
-        s_min = np.linalg.eigvalsh(W)[0]
-        lam2 = max(eps - s_min, 0.0)
+            W[i, i] -= eps
+        if _cholesky(W):  # s_min > ε: no damping, without the eigenvalues (the usual case)
+            lam2 = 0.0
+        else:
+            for i in range(m):
+                for k in range(m):
+                    W[i, k] = S[i, k] * weights[i] * weights[k]
+            lam2 = max(eps - np.linalg.eigvalsh(W)[0], 0.0)
     for i in range(m):
         S[i, i] += lam2 / (weights[i] * weights[i])
     if not _cholesky(S):
@@ -323,7 +329,7 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
 
 @njit(**JIT)
 def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h, q, qd, TD, VD, AD, POST,
-             use_posture, kp, kd, eps, q1, qd1, a1, tau, e):
+             use_posture, kp, kd, eps, lo, hi, q1, qd1, a1, tau, e):
     """One integration step of the OSC closed loop from (q, q̇), the law evaluated at every
     stage on the desired values at the stage's time: TD (3, 4, 4), VD, AD (3, 6) at the
     step's start, middle and end, and the posture's (q_d, q̇_d, q̈_d) there, POST (3, 3, n)
@@ -333,7 +339,8 @@ def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h
     tau and its task error into e.  ``P``, ``g0``: the dynamics kernels' table and frame-0
     gravity (``dynamics.compiled_kernels``).  Returns 0, 1 when an input or a stage is not finite or
     cannot be solved, 2 when a stage's effort exceeds ``limit`` (n,) (the caller then
-    saturates it step by step; checked only when ``check``)."""
+    saturates it step by step; checked only when ``check``), 3 when the step ends beyond
+    the joint limits ``lo``, ``hi`` (n,) (the caller resolves the stops)."""
     n = K.shape[0]
     for v in (q, qd):
         for x in v:
@@ -402,4 +409,7 @@ def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h
         else:
             qd1[j] = qd[j] + h * acc[0, j]
             q1[j] = q[j] + h * qd1[j]
+    for j in range(n):
+        if q1[j] < lo[j] or q1[j] > hi[j]:
+            return 3
     return 0
