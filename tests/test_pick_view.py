@@ -69,9 +69,9 @@ def test_the_wall_between_pick_and_place_is_drawn(renderer):
     image = renderer.render(cam, session.scene(), session.options)
     face = wall.pose[:3, 3] + [0.0, 0.0, wall.size[2] / 4]  # its upper half, above the table
     xy = cam.project(face[None], W, H)[0]
-    assert colour_fraction(image, xy, gd.OBSTACLE_COLOR) > 0.5
+    assert colour_fraction(image, xy, gd.TASK_OBSTACLE_COLOR) > 0.5
     bare = renderer.render(cam, session.scene().__class__(session.kin), session.options)
-    assert colour_fraction(bare, xy, gd.OBSTACLE_COLOR) == 0.0
+    assert colour_fraction(bare, xy, gd.TASK_OBSTACLE_COLOR) == 0.0
 
 
 def test_object_drawn_at_its_place_after_the_end(renderer):

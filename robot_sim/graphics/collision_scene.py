@@ -46,7 +46,7 @@ def collision_parts(scene: CollisionScene) -> list[tuple[str, FloatArray, FloatA
     groups: dict[str, tuple[list, list]] = {}
     drawn = [(shape, gd.COLLISION_CONTACT_COLOR if name in scene.touching else gd.COLLISION_SHAPE_COLOR)
              for name, shape in scene.shapes]
-    drawn += [(shape, gd.OBSTACLE_COLOR) for _, shape in scene.obstacles]
+    drawn += [(shape, gd.COLLISION_OBSTACLE_COLOR) for _, shape in scene.obstacles]
     for shape, rgba in drawn:
         if isinstance(shape, (HalfSpace, Mesh)):
             continue

@@ -166,7 +166,7 @@ TRAIL_WIDTH_PX = 2.0
 # Pick task (--demo pick): table, object, two-finger gripper, planned endeffector path
 TABLE_COLOR = (0.50, 0.35, 0.20, 1.0)     # wood brown
 OBJECT_COLOR = (0.60, 0.20, 0.75, 1.0)    # purple block (orange is the velocity arrow)
-OBSTACLE_COLOR = (0.20, 0.55, 0.50, 1.0)  # teal: the task's walls and posts (unlike floor, arm, pull spring)
+TASK_OBSTACLE_COLOR = (0.20, 0.55, 0.50, 1.0)  # teal: the task's walls and posts (unlike floor, arm, pull spring)
 GRIPPER_COLOR = (0.20, 0.22, 0.28, 1.0)   # dark steel
 PATH_COLOR = (0.95, 0.85, 0.10, 1.0)      # yellow line
 PATH_LINE_WIDTH_PX = 2.0
@@ -179,7 +179,7 @@ GRIPPER_PALM_THICKNESS_M = 0.012
 # world's obstacles, and the closest checked pair's line with its distance
 COLLISION_SHAPE_COLOR = (0.25, 0.90, 0.45, 0.35)  # translucent green: clear of everything
 COLLISION_CONTACT_COLOR = (1.00, 0.10, 0.10, 0.70)  # red: a shape in contact
-OBSTACLE_COLOR = (0.55, 0.60, 0.70, 0.55)           # see-through steel: the world's obstacles
+COLLISION_OBSTACLE_COLOR = (0.55, 0.60, 0.70, 0.55)  # see-through steel: the world's obstacles
 CLOSEST_COLOR = (0.10, 0.90, 1.00, 1.0)             # cyan line between the closest pair's points
 CLOSEST_WIDTH_PX = 2.0
 CLOSEST_POINT_RADIUS_M = 0.006                      # dots at the closest pair's witness points

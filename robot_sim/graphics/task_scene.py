@@ -73,7 +73,7 @@ def obstacle_placements(obstacles: tuple[tuple[str, Shape], ...]) -> list[tuple[
     cylinder and two spheres; meshes and half-spaces are not drawn here."""
     out = []
     for _, shape in obstacles:
-        color = shape.color or gd.OBSTACLE_COLOR
+        color = shape.color or gd.TASK_OBSTACLE_COLOR
         if isinstance(shape, Box):
             out.append(("box", color, _scaled(shape.pose, (0.0, 0.0, 0.0), shape.size)[None]))
         elif isinstance(shape, Sphere):
