@@ -130,7 +130,9 @@ def test_unreachable_task_fails_with_one_line_before_moving(tmp_path):
     message = str(info.value)
     assert "\n" not in message
     assert message.startswith(f"task {path}: UR5: pre-grasp: tool at xyz [5.000, -0.200, 0.410] m, rpy [180.0, ")
-    assert "is out of reach: IK did not converge" in message
+    arm = robot("ur5")
+    reach = f"is out of reach: IK target is 5.02 m from the base, beyond the arm's reach of {arm.reach:.3g} m; "
+    assert reach + "did not converge" in message
 
 
 @pytest.mark.parametrize(

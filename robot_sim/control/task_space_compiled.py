@@ -27,6 +27,10 @@ REV, TH, D, A, CA, SA = range(6)
 #: Angle [rad] below which the SO(3) coefficients use their series (as task_error).
 SERIES_ANGLE = 0.1
 _NEAR_PI_SIN = 1e-3
+#: Jacobi eigenvalues: at most this many sweeps (a 6x6 converges in 5-6), stopping once the
+#: off-diagonal square sum is below (1e-16)^2 of the matrix's.
+JACOBI_SWEEPS = 30
+JACOBI_TOL2 = 1e-32
 
 
 def kinematic_table(revolute: np.ndarray, theta: np.ndarray, d: np.ndarray, a: np.ndarray,
@@ -218,6 +222,42 @@ def _cholesky(A):
 
 
 @njit(**JIT)
+def _smallest_eigenvalue(W):
+    """The smallest eigenvalue of the symmetric matrix W (overwritten), by cyclic Jacobi
+    rotations (Golub & Van Loan, Matrix Computations, §8.5) until the off-diagonal part is
+    below round-off: the task matrix has at most six rows, and numba's ``np.linalg`` needs
+    SciPy's LAPACK, which is not a dependency."""
+    m = W.shape[0]
+    for _ in range(JACOBI_SWEEPS):
+        off = 0.0
+        diag = 0.0
+        for p in range(m):
+            diag += W[p, p] * W[p, p]
+            for r in range(p + 1, m):
+                off += W[p, r] * W[p, r]
+        if not off > JACOBI_TOL2 * (diag + off):
+            break
+        for p in range(m - 1):
+            for r in range(p + 1, m):
+                if W[p, r] == 0.0:
+                    continue
+                theta = (W[r, r] - W[p, p]) / (2.0 * W[p, r])
+                t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(m):  # W J: columns p and r
+                    wp, wr = W[k, p], W[k, r]
+                    W[k, p], W[k, r] = c * wp - s * wr, s * wp + c * wr
+                for k in range(m):  # Jᵀ (W J): rows p and r
+                    wp, wr = W[p, k], W[r, k]
+                    W[p, k], W[r, k] = c * wp - s * wr, s * wp + c * wr
+    low = W[0, 0]
+    for p in range(1, m):
+        low = min(low, W[p, p])
+    return low
+
+
+@njit(**JIT)
 def _solve(L, b, x):
     """x with L Lᵀ x = b."""
     n = L.shape[0]
@@ -311,7 +351,7 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
             for i in range(m):
                 for k in range(m):
                     W[i, k] = S[i, k] * weights[i] * weights[k]
-            lam2 = max(eps - np.linalg.eigvalsh(W)[0], 0.0)
+            lam2 = max(eps - _smallest_eigenvalue(W), 0.0)
     for i in range(m):
         S[i, i] += lam2 / (weights[i] * weights[i])
     if not _cholesky(S):
