@@ -24,7 +24,7 @@ from robot_sim.jit import JIT
 
 HERE = Path(__file__).resolve().parent
 #: The modules holding compiled kernels (they call each other).
-KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels")
+KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels", "certify")
 
 
 def _cache_dirs() -> list[Path]:

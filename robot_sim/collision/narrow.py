@@ -9,7 +9,8 @@ forms where there is one and to GJK/EPA otherwise:
 * anything with a half-space: exact, from the shape's support point;
 * box with box: GJK (exact for polytopes) apart, separating axes (exact) in overlap;
 * the rest (capsule, box, cylinder or convex with cylinder or convex): GJK apart, EPA
-  in overlap (exact for polytopes, to ``gjk.EPA_TOL`` for curved ones).
+  in overlap; a capsule farther than the cutoff from the capsule around a cylinder is
+  answered by that lower bound (exact for polytopes, to ``gjk.EPA_TOL`` for curved ones).
 
 Returns ``(d, a, b, n)`` as :mod:`.closest` does: signed distance in metres (negative:
 penetration depth), world witness points on each shape and the unit normal from the
@@ -176,6 +177,13 @@ def _ordered(ka, ra, kb, rb, verts, cutoff):
         return _core_box(ka, ra, rb)
     if ka == L.SPHERE and kb == L.CYLINDER:
         return _sphere_cylinder(ra, rb)
+    if ka == L.CAPSULE and kb == L.CYLINDER:  # the capsule around the cylinder holds it: a lower bound
+        p0, p1 = core_ends(ka, ra)
+        z, h = axis_z(rb), rb[L.HALF_LENGTH]
+        c = (rb[L.POS], rb[L.POS + 1], rb[L.POS + 2])
+        d, a, b, n = segment_segment(p0, p1, madd(c, z, -h), madd(c, z, h))
+        if d - ra[L.RADIUS] - rb[L.CYL_RADIUS] >= cutoff:
+            return inflate(d, a, b, n, ra[L.RADIUS], rb[L.CYL_RADIUS])
     W = np.empty((4, 3))
     A = np.empty((4, 3))
     B = np.empty((4, 3))

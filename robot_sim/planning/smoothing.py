@@ -28,10 +28,8 @@ SHORTCUT_ATTEMPTS = 12
 COLLINEAR_TOL = 1e-9
 #: Rounds of adding waypoints to a colliding spline span before it becomes a straight edge.
 SMOOTH_ROUNDS = 4
-#: Trial spacing along the spline [rad or m] from which the check spacing is set, and the
-#: margin of that spacing over the chord's sweep (the arc is a little longer than its chord).
-TRIAL_SPACING = 0.05
-ARC_MARGIN = 1.25
+#: Round-off allowed beyond a joint limit at a span's extreme [rad or m].
+LIMIT_TOL = 1e-12
 
 
 def _corners(P: FloatArray) -> FloatArray:
@@ -51,9 +49,8 @@ def _prune(counter: CheckCounter, P: FloatArray) -> FloatArray:
     keep, i = [0], 0
     while i < P.shape[0] - 1:
         far = np.arange(P.shape[0] - 1, i + 1, -1)
-        free = counter.edges_free(np.repeat(P[i : i + 1], far.shape[0], axis=0), P[far]) if far.size else []
-        hit = np.flatnonzero(free)
-        i = int(far[hit[0]]) if hit.size else i + 1
+        k = counter.first_free(P[i], P[far]) if far.size else -1
+        i = int(far[k]) if k >= 0 else i + 1
         keep.append(i)
     return P[keep]
 
@@ -79,25 +76,15 @@ def shortcut(counter: CheckCounter, path: FloatArray, rng: np.random.Generator,
     return _prune(counter, P)
 
 
-def spline_samples(counter: CheckCounter, spline: JointSpline) -> tuple[FloatArray, FloatArray]:
-    """Path parameters (M,) along ``spline`` such that no point of the arm moves more than
-    the checker's resolution between two of them, and the configurations there (M, n)."""
-    s = spline.samples(TRIAL_SPACING)
-    q, _, _ = spline.evaluate(s)
-    m = counter.steps(np.diff(q, axis=0) * ARC_MARGIN)
-    parts = [s[:1]] + [np.linspace(a, b, k + 1)[1:] for a, b, k in zip(s[:-1], s[1:], m)]
-    dense = np.concatenate(parts)
-    return dense, spline.evaluate(dense)[0]
-
-
 def _failing_spans(counter: CheckCounter, robot: RobotParams, spline: JointSpline) -> NDArray[np.int64]:
-    """Knot spans (indices) of ``spline`` where it collides or leaves the joint limits."""
-    s, Q = spline_samples(counter, spline)
-    bad = np.any((Q < robot.q_min) | (Q > robot.q_max), axis=1)
-    if not bad.any():
-        bad = counter.samples_colliding(Q)
-    span = np.clip(np.searchsorted(spline.knots, s[bad], side="right") - 1, 0, spline.knots.shape[0] - 2)
-    return np.unique(span)
+    """Knot spans (indices) of ``spline`` where it leaves the joint limits (exact extremes
+    of each span's cubic, LIMIT_TOL allowed) or, when it stays within them, where it
+    collides."""
+    lo, hi = spline.span_range()
+    outside = np.any((lo < robot.q_min - LIMIT_TOL) | (hi > robot.q_max + LIMIT_TOL), axis=1)
+    if outside.any():
+        return np.flatnonzero(outside)
+    return np.flatnonzero(counter.spans_colliding(spline))
 
 
 def _refined(P: FloatArray, spans: NDArray[np.int64]) -> FloatArray:

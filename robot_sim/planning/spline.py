@@ -75,19 +75,29 @@ class JointSpline:
         """Total chord length of the path [rad or m]."""
         return float(self.knots[-1])
 
+    def _pieces(self, s: ArrayLike) -> tuple[FloatArray, ...]:
+        """Per parameter (``s`` clamped to [0, length]): the knot span's length h, the
+        distances a, b to its ends, its curvatures m0, m1 and waypoints y0, y1."""
+        sq = np.clip(np.asarray(s, dtype=float).reshape(-1), 0.0, self.length)
+        P, M, t = self.waypoints, self.curvature, self.knots
+        i = np.clip(np.searchsorted(t, sq, side="right") - 1, 0, t.shape[0] - 2)
+        h = (t[i + 1] - t[i])[:, None]
+        return h, t[i + 1, None] - sq[:, None], sq[:, None] - t[i, None], M[i], M[i + 1], P[i], P[i + 1]
+
+    def positions(self, s: ArrayLike) -> FloatArray:
+        """q(s) (M, n) at path parameters ``s`` (M,), clamped to [0, length]."""
+        if self.waypoints.shape[0] == 1:
+            return np.zeros((np.size(s), self.waypoints.shape[1])) + self.waypoints[0]
+        h, a, b, m0, m1, y0, y1 = self._pieces(s)
+        return (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
+
     def evaluate(self, s: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
         """q(s), dq/ds and d²q/ds² at path parameters ``s`` (M,) → three (M, n) arrays;
         ``s`` is clamped to [0, length]."""
-        sq = np.clip(np.asarray(s, dtype=float).reshape(-1), 0.0, self.length)
-        P, M, t = self.waypoints, self.curvature, self.knots
-        if P.shape[0] == 1:
-            zeros = np.zeros((sq.shape[0], P.shape[1]))
-            return zeros + P[0], zeros, zeros.copy()
-        i = np.clip(np.searchsorted(t, sq, side="right") - 1, 0, t.shape[0] - 2)
-        h = (t[i + 1] - t[i])[:, None]
-        a, b = (t[i + 1, None] - sq[:, None]), (sq[:, None] - t[i, None])
-        m0, m1, y0, y1 = M[i], M[i + 1], P[i], P[i + 1]
-        q = (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
+        q = self.positions(s)
+        if self.waypoints.shape[0] == 1:
+            return q, np.zeros_like(q), np.zeros_like(q)
+        h, a, b, m0, m1, y0, y1 = self._pieces(s)
         dq = (-m0 * a**2 + m1 * b**2) / (2 * h) + (y1 - y0) / h - (m1 - m0) * h / 6
         ddq = (m0 * a + m1 * b) / h
         return q, dq, ddq
@@ -99,3 +109,41 @@ class JointSpline:
             m = max(1, int(np.ceil((s1 - s0) / spacing - 1e-12)))
             parts.append(np.linspace(s0, s1, m + 1)[1:])
         return np.concatenate(parts)
+
+    def _spans(self) -> tuple[FloatArray, ...]:
+        """Per knot span (K - 1, 1 or n): its length h, curvatures m0, m1 and waypoints y0, y1."""
+        t, P, M = self.knots, self.waypoints, self.curvature
+        return np.diff(t)[:, None], M[:-1], M[1:], P[:-1], P[1:]
+
+    def _span_points(self, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """q and dq/ds (K - 1, n) at offsets ``b`` (K - 1, n) into each span, per joint."""
+        h, m0, m1, y0, y1 = self._spans()
+        a = h - b
+        q = (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
+        dq = (-m0 * a**2 + m1 * b**2) / (2 * h) + (y1 - y0) / h - (m1 - m0) * h / 6
+        return q, dq
+
+    def span_speed(self) -> FloatArray:
+        """(K - 1, n): the largest |dq/ds| of each joint over each knot span (exact: at the
+        span's ends or where d²q/ds² = 0 inside it)."""
+        h, m0, m1, _, _ = self._spans()
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inner = np.nan_to_num(np.clip(m0 * h / (m0 - m1), 0.0, h), nan=0.0, posinf=0.0, neginf=0.0)
+        zeros = np.zeros_like(m0)
+        return np.max([np.abs(self._span_points(b)[1]) for b in (zeros, zeros + h, inner)], axis=0)
+
+    def span_range(self) -> tuple[FloatArray, FloatArray]:
+        """(lowest, highest) value (K - 1, n) of each joint over each knot span (exact: at
+        the span's ends or where dq/ds = 0 inside it)."""
+        h, m0, m1, _, _ = self._spans()
+        zeros = np.zeros_like(m0)
+        _, c = self._span_points(zeros)  # dq/ds = A b² + B b + c on the span, b from its start
+        A, B = (m1 - m0) / (2 * h), m0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            root = np.sqrt(np.maximum(B * B - 4 * A * c, 0.0))
+            linear = np.abs(A) <= 1e-12 * (np.abs(B) + np.abs(c) / h)
+            b1 = np.where(linear, -c / B, (-B + root) / (2 * A))
+            b2 = np.where(linear, -c / B, (-B - root) / (2 * A))
+        candidates = [zeros, zeros + h] + [np.nan_to_num(np.clip(b, 0.0, h), nan=0.0) for b in (b1, b2)]
+        values = np.array([self._span_points(b)[0] for b in candidates])
+        return values.min(axis=0), values.max(axis=0)
