@@ -179,3 +179,19 @@ def test_spline_spans_collide_exactly_where_their_rows_do(name):
             assert got[i] == checker.in_collision(rows).any()
             seen += got[i]
     assert seen > 0
+
+
+@pytest.mark.parametrize("name", ["panda", "humanoid7"])
+def test_clearances_asked_below_a_limit_are_exact_below_it_and_lower_bounds_above(name):
+    arm = robot(name)
+    checker = CollisionChecker(arm, CLUTTER)
+    groups = counter_for(checker).groups
+    Q = random_configurations(arm, 300, np.random.default_rng(6))
+    Q = Q[~checker.in_collision(Q)]
+    exact = groups.clearance(Q)
+    for limit in (0.0, 0.02, 0.2):
+        got = groups.clearance(Q, limit)
+        below = exact < limit
+        np.testing.assert_allclose(got[below], exact[below], rtol=0, atol=1e-12)
+        assert np.all(got[~below] >= limit) and np.all(got[~below] <= exact[~below] + 1e-12)
+        assert np.isfinite(got).all()  # every group has pairs, each bounded from below

@@ -11,15 +11,17 @@ stepped evenly in its parameter.  Rows are consecutive at most the checker's res
 apart, so asking every row is the continuous check; this asks fewer:
 
 * the knots (every ``stride``-th row and the last) are asked coarse to fine: both ends,
-  then the middle knot, then the quarters, ... (a colliding path usually shows it early);
+  then the middle knot, then the quarters, ... (a colliding path usually shows it early),
+  each only where the stretch between its two neighbours of the coarser level is not
+  already proven free (below);
 * then each stretch between two asked rows a < b is proven free when, for every group,
   clearance(a) + clearance(b) exceeds C(b) - C(a) (no pair can close the gap from both
   ends), or a row inside it is asked (the middle of what neither end's clearance
   covers), depth first from the left.
 
-Nothing proven free would be found colliding by asking every row.  Clearances are asked
-exactly only up to the largest closing bound between two knots (beyond, a lower bound
-that large is as good).  World frame, metres; no Qt, no OpenGL.
+Nothing proven free would be found colliding by asking every row.  Clearances are exact
+only up to the bound of one knot interval (a stretch being split: its own bound), and
+lower bounds beyond: any lower bound proves as soundly, a larger one only proves more.  World frame, metres; no Qt, no OpenGL.
 """
 from __future__ import annotations
 
@@ -27,17 +29,40 @@ import math
 
 import numpy as np
 
+from robot_sim.collision import layout as L
 from robot_sim.collision._jit import JIT, njit
 from robot_sim.collision.batch import _gap, _pose, _workspace
-from robot_sim.collision.narrow import pair_distance
+from robot_sim.collision.narrow import pair_distance, to_local
+
+#: A knot's state in :func:`_first_hit`: asked, or inside a stretch already proven free.
+ASKED, COVERED = 1, 2
+
+
+@njit(**JIT)
+def _lower_bound(kinds, recs, wc, br, i, j):
+    """A lower bound of the distance of shape i (a robot shape: its bounding sphere) and
+    shape j: the bounding spheres' gap, or i's bounding sphere against a half-space or a
+    box j (tighter for a floor or a table than j's own bounding sphere)."""
+    if kinds[j] == L.HALFSPACE:
+        r = recs[j]
+        return (r[2] * (wc[i, 0] - r[L.POS]) + r[5] * (wc[i, 1] - r[L.POS + 1]) + r[8] * (wc[i, 2] - r[L.POS + 2])
+                - br[i])
+    gap = _gap(wc, br, i, j)
+    if kinds[j] == L.BOX:
+        x, y, z = to_local(recs[j], (wc[i, 0], wc[i, 1], wc[i, 2]))
+        dx = max(abs(x) - recs[j, L.HALF_X], 0.0)
+        dy = max(abs(y) - recs[j, L.HALF_Y], 0.0)
+        dz = max(abs(z) - recs[j, L.HALF_Z], 0.0)
+        gap = max(gap, math.sqrt(dx * dx + dy * dy + dz * dz) - br[i])
+    return gap
 
 
 @njit(**JIT)
 def clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group, padding, limit,
                  F, recs, wc, out):
     """out[g] = signed distance minus ``padding`` of group g's closest pair at q (n,):
-    exact below ``limit[g]``, else a lower bound of at least it (inf when the bounding
-    spheres tell).  When a pair is closer than the padding, every column gets that
+    exact below ``limit[g]``, else a lower bound of at least it (inf for a group without
+    pairs).  When a pair is closer than the padding, every column gets that
     (negative) value and True is returned."""
     _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
     for g in range(out.shape[0]):
@@ -46,7 +71,9 @@ def clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pai
         g = group[p]
         cutoff = min(out[g], limit[g]) + padding
         i, j = pairs[p, 0], pairs[p, 1]
-        if _gap(wc, br, i, j) >= cutoff:
+        bound = _lower_bound(kinds, recs, wc, br, i, j)
+        if bound >= cutoff:  # a lower bound is all that is needed of this pair
+            out[g] = min(out[g], bound - padding)
             continue
         d = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, cutoff)[0] - padding
         if d < out[g]:
@@ -121,51 +148,54 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
     krow = np.empty(nk, dtype=np.int64)
     for i in range(nk):
         krow[i] = min(i * stride, R)
-    kq, kc = np.empty((nk, n)), np.empty((nk, G))
+    kq, kc, kd = np.empty((nk, n)), np.empty((nk, G)), np.empty((nk, G))
     for i in range(nk):
         _row(P, Mc, H, C, rs, krow[i], kq[i], kc[i])
-    limit = np.full(G, math.inf)  # exact clearances are needed up to the largest knot-to-knot bound
-    if nk > 1:
-        for g in range(G):
-            widest = 0.0
-            for i in range(nk - 1):
-                widest = max(widest, kc[i + 1, g] - kc[i, g])
-            limit[g] = widest
-    kd = np.empty((nk, G))
+    state = np.zeros(nk, dtype=np.int64)  # ASKED, or COVERED: inside a stretch proven free
     first, count = R + 1, 0  # rows from `first` on are not asked
-    # the knots, coarse to fine: both ends, then every span-th knot for span = 2^p, ..., 1
-    span = 1
-    while span < nk - 1:
-        span *= 2
-    order = np.empty(nk, dtype=np.int64)
-    order[0], size = 0, 1
-    if nk > 1:
-        order[1], size = nk - 1, 2
+    cap = np.empty(G)
+    # the knots, coarse to fine: both ends, then every span-th knot for span = 2^p, ..., 1,
+    # each only if the stretch between its two neighbours one span away is not proven free
+    top_span = 1
+    while top_span < nk - 1:
+        top_span *= 2
+    span = 2 * top_span
     while span > 1:
         span //= 2
-        for i in range(span, nk - 1, 2 * span):
-            order[size] = i
-            size += 1
-    for idx in order:
-        if krow[idx] >= first:
-            continue
-        count += 1
-        if clearance_at(kq[idx], dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group,
-                        padding, limit, F, recs, wc, kd[idx]):
-            if not first_only:
-                return krow[idx], count
-            first = min(first, krow[idx])
-    # the stretches between knots, depth first from the left
+        start, every = (0, max(nk - 1, 1)) if span == top_span else (span, 2 * span)
+        for idx in range(start, nk, every):
+            if state[idx] != 0 or krow[idx] >= first:
+                continue
+            lo, hi = max(idx - span, 0), min(idx + span, nk - 1)
+            if span < top_span:
+                if state[lo] == COVERED or state[hi] == COVERED or (
+                        state[lo] == ASKED and state[hi] == ASKED and _proven(kd[lo], kd[hi], kc[lo], kc[hi])):
+                    state[idx] = COVERED
+                    continue
+            else:
+                lo, hi = 0, nk - 1
+            for g in range(G):  # exact up to the bound of one knot interval (a lower bound beyond)
+                cap[g] = (kc[hi, g] - kc[lo, g]) / max(hi - lo, 1)
+            state[idx] = ASKED
+            count += 1
+            if clearance_at(kq[idx], dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group,
+                            padding, cap, F, recs, wc, kd[idx]):
+                if not first_only:
+                    return krow[idx], count
+                first = min(first, krow[idx])
+    # the stretches between consecutive asked knots, depth first from the left
     buf_d, buf_c = np.empty((stride + 2, G)), np.empty((stride + 2, G))
     stack = np.empty((stride + 2, 4), dtype=np.int64)  # rows a, b and their slots in buf
     q = np.empty(n)
-    for i in range(nk - 1):
-        if krow[i] >= first:
+    prev = 0
+    for i in range(1, nk):
+        if krow[prev] >= first:
             break
-        buf_d[0], buf_c[0], buf_d[1], buf_c[1] = kd[i], kc[i], kd[i + 1], kc[i + 1]
-        slots, top = 2, 0
-        stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = krow[i], krow[i + 1], 0, 1
-        top = 1
+        if state[i] != ASKED:
+            continue
+        buf_d[0], buf_c[0], buf_d[1], buf_c[1] = kd[prev], kc[prev], kd[i], kc[i]
+        stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = krow[prev], krow[i], 0, 1
+        slots, top, prev = 2, 1, i
         while top > 0:
             top -= 1
             a, b, sa, sb = stack[top, 0], stack[top, 1], stack[top, 2], stack[top, 3]
@@ -174,9 +204,11 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
             m, sm = _split(a, b, buf_d[sa], buf_d[sb], buf_c[sa], buf_c[sb]), slots
             slots += 1
             _row(P, Mc, H, C, rs, m, q, buf_c[sm])
+            for g in range(G):
+                cap[g] = buf_c[sb, g] - buf_c[sa, g]
             count += 1
             if clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group,
-                            padding, limit, F, recs, wc, buf_d[sm]):
+                            padding, cap, F, recs, wc, buf_d[sm]):
                 if not first_only:
                     return m, count
                 first = min(first, m)
