@@ -38,6 +38,13 @@ def counter_for(checker):
     return CheckCounter(checker, *sampling_bounds(checker.robot))
 
 
+def groups_among_clutter(name, count, seed):
+    """(arm, its checker among CLUTTER, the checker's pair groups, ``count`` random configurations)."""
+    arm = robot(name)
+    checker = CollisionChecker(arm, CLUTTER)
+    return arm, checker, counter_for(checker).groups, random_configurations(arm, count, np.random.default_rng(seed))
+
+
 def every_row(counter, qa, qb):
     """Every configuration of the edge qa → qb at the checker's resolution (the rows)."""
     m = int(counter.steps(qb - qa))
@@ -102,10 +109,7 @@ def test_a_checker_group_is_checked_as_its_members_together():
 
 @pytest.mark.parametrize("name", ["panda", "stanford"])
 def test_group_clearances_are_each_groups_closest_pair(name):
-    arm = robot(name)
-    checker = CollisionChecker(arm, CLUTTER)
-    groups = counter_for(checker).groups
-    Q = random_configurations(arm, 60, np.random.default_rng(1))
+    arm, checker, groups, Q = groups_among_clutter(name, 60, 1)
     d = groups.clearance(Q)
     index = {link: k for k, link in enumerate(arm.link_names)}
     for q, row in zip(Q, d):
@@ -183,10 +187,7 @@ def test_spline_spans_collide_exactly_where_their_rows_do(name):
 
 @pytest.mark.parametrize("name", ["panda", "humanoid7"])
 def test_clearances_asked_below_a_limit_are_exact_below_it_and_lower_bounds_above(name):
-    arm = robot(name)
-    checker = CollisionChecker(arm, CLUTTER)
-    groups = counter_for(checker).groups
-    Q = random_configurations(arm, 300, np.random.default_rng(6))
+    arm, checker, groups, Q = groups_among_clutter(name, 300, 6)
     Q = Q[~checker.in_collision(Q)]
     exact = groups.clearance(Q)
     for limit in (0.0, 0.02, 0.2):

@@ -31,10 +31,10 @@ def held_object(robot: RobotParams, shape: Shape, world: World, padding: float =
 
 class CheckerGroup:
     """Checkers of one robot asked together: a configuration collides if it collides for
-    any member.  Offers what the planner uses of a checker: batched ``in_collision`` and
-    ``distance`` (the smallest), ``path_is_free`` (the first member's failure), ``padding``,
-    the members' largest lever arms (``sweep_radii``) with ``resolution``, and ``members``
-    (the planner certifies each member's distances with its own bound)."""
+    any member.  Offers what the planner uses of a checker: batched ``in_collision``,
+    ``path_is_free`` (the first member's failure), ``padding``, the members' largest lever
+    arms (``sweep_radii``) with ``resolution``, and ``members`` (the planner checks their
+    pairs together, each group of pairs with its own bound)."""
 
     def __init__(self, *members: CollisionChecker) -> None:
         self.members = members
@@ -48,13 +48,6 @@ class CheckerGroup:
         """Whether q (n,), or each row of q (N, n), collides for some member."""
         hits = [m.in_collision(q) for m in self.members]
         return any(hits) if isinstance(hits[0], bool) else np.logical_or.reduce(hits)
-
-    def distance(self, q: ArrayLike):  # noqa: ANN201
-        """The members' smallest distance: (N,) for (N, n), else the closest DistanceResult."""
-        results = [m.distance(q) for m in self.members]
-        if isinstance(results[0], np.ndarray):
-            return np.min(results, axis=0)
-        return min(results, key=lambda r: r.distance)
 
     def path_is_free(self, q_path: ArrayLike, times: ArrayLike | None = None):  # noqa: ANN201
         """The first member's continuous check that fails, else the last one's (free)."""

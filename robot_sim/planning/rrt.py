@@ -1,10 +1,10 @@
 """Collision-free joint-space paths: :func:`plan_path` (bidirectional RRT-Connect, then
 shortcutting and smoothing) and its :class:`PathResult`.
 
-Every edge is a straight joint-space segment whose configurations are checked in
-batched calls at the continuous resolution of ``checker.path_is_free`` (see
-:mod:`robot_sim.planning.edges`: distances prove stretches free, the rest is bisected), so
-a returned path is free between its waypoints, not only at them.  Joint values in rad or
+Every edge is a straight joint-space segment checked in compiled code at the continuous
+resolution of ``checker.path_is_free`` (see :mod:`robot_sim.planning.edges`: clearances
+prove stretches free, the rest is split), so a returned path is free between its
+waypoints, not only at them.  Joint values in rad or
 m, times in seconds.  No Qt, no OpenGL.
 """
 from __future__ import annotations
@@ -144,8 +144,7 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
 
     Bidirectional RRT-Connect samples uniformly inside the joint limits (unlimited revolute
     joints over [−π, π], widened to hold start and goal); each extension is one straight
-    edge whose interpolated configurations are checked in batched calls at the
-    resolution of ``checker.path_is_free``.  The path found is then shortcut and smoothed
+    edge checked continuously at the resolution of ``checker.path_is_free``.  The path found is then shortcut and smoothed
     (:mod:`robot_sim.planning.smoothing`), keeping it free.  The same ``seed`` gives the
     same path (the search is stopped by ``time_limit`` [s] only when it fails).
 
