@@ -41,8 +41,9 @@ def _assert_same(batch, sims):
 
 
 @pytest.mark.parametrize(("name", "mode", "integrator"), [
-    ("puma560", "ct", "rk4"), ("puma560", "pd", "rk4"), ("puma560", "pdg", "euler"),
-    ("panda", "ct", "rk4"), ("panda", "passive", "rk4"), ("stanford", "pdg", "rk4"),
+    pytest.param("puma560", "ct", "rk4", marks=pytest.mark.slow), ("puma560", "pd", "rk4"),
+    ("puma560", "pdg", "euler"), ("panda", "ct", "rk4"), pytest.param("panda", "passive", "rk4", marks=pytest.mark.slow),
+    ("stanford", "pdg", "rk4"),
 ])
 def test_batch_equals_single_simulations_bit_for_bit(name, mode, integrator):
     robot = load_robot(name)
