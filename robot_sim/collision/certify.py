@@ -21,7 +21,8 @@ apart, so asking every row is the continuous check; this asks fewer:
 
 Nothing proven free would be found colliding by asking every row.  Clearances are exact
 only up to the bound of one knot interval (a stretch being split: its own bound), and
-lower bounds beyond: any lower bound proves as soundly, a larger one only proves more.  World frame, metres; no Qt, no OpenGL.
+lower bounds beyond: any lower bound proves as soundly, a larger one only proves more.
+World frame, metres; no Qt, no OpenGL.
 """
 from __future__ import annotations
 
