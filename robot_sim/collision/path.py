@@ -5,8 +5,9 @@ is cut into steps short enough that no point of any link shape moves more than `
 metres between two checked configurations (``step`` = the checker's padding, or
 ``DEFAULT_STEP`` without padding).  The bound comes from link lengths: joint j swings
 every point it moves by at most |Δq_j| times its lever arm R_j, the largest distance from
-joint j's origin to a shape beyond it along the chain (the |a| and |d| of the rows in
-between, plus each shape's bounding sphere), and a prismatic joint moves them by |Δq_j|.
+joint j's origin to a shape beyond it along the chain (the √(a² + d²) of the rows in
+between, a and d being perpendicular in either DH convention, plus each shape's bounding
+sphere), and a prismatic joint moves them by |Δq_j|.
 With padding p > 0 and steps of p, a path whose checked configurations are all farther
 than p from collision is free everywhere in between.
 """
@@ -61,7 +62,7 @@ def link_lever_arms(checker, Qa: FloatArray, Qb: FloatArray) -> FloatArray:  # n
         k = scene.link[s]
         reach[k] = max(reach[k], float(np.linalg.norm(scene.bc[s]) + scene.br[s]))
     d = np.abs(robot.dh_d) + np.where(revolute, 0.0, np.maximum(np.abs(Qa), np.abs(Qb)))
-    row = np.abs(robot.dh_a) + d  # (M, n): row m's translation bound
+    row = np.hypot(robot.dh_a, d)  # (M, n): row m's translation bound (a and d are perpendicular)
     cum = np.concatenate([np.zeros((row.shape[0], 1)), np.cumsum(row, axis=1)], axis=1)  # cum[:, k] = rows 1..k
     arms = np.zeros((row.shape[0], n + 1, n))
     for j in range(n):
