@@ -156,9 +156,13 @@ class Frame(Drawing):
     def lit(self, alpha: float = 1.0, markers: bool = False) -> Program:
         """The lit program in use with this frame's camera, lights and shadow map, every
         fragment's alpha multiplied by ``alpha``; ``markers`` (the overlay layer's axes,
-        target and arrows) are lit from the eye instead, with no shadow, so that they
-        read in their colours from every side."""
+        target and arrows): the marker program instead, lit from the eye with no shadow
+        and no highlight, so that they read in their colours from every side."""
         light, theme = self.light, self.theme
+        if markers:
+            program = self.resources.programs["marker"].use()
+            program.set("u_view_proj", self.view_proj).set("u_eye", self.camera.eye())
+            return program.set("u_alpha", float(alpha)).set("u_below_floor", theme.below_floor)
         program = self.resources.programs["lit"].use()
         program.set("u_view_proj", self.view_proj).set("u_light_matrix", light.matrix)
         program.set("u_key_dir", light.key).set("u_key_color", gd.KEY_LIGHT_COLOR)
@@ -166,14 +170,14 @@ class Frame(Drawing):
         program.set("u_sky_color", gd.SKY_AMBIENT).set("u_ground_color", gd.GROUND_AMBIENT)
         program.set("u_eye", self.camera.eye()).set("u_specular", gd.SPECULAR_STRENGTH)
         program.set("u_shininess", gd.SHININESS).set("u_alpha", float(alpha))
-        program.set("u_below_floor", theme.below_floor).set("u_headlight", int(markers))
-        self.bind_shadow(program, not markers)
+        program.set("u_below_floor", theme.below_floor)
+        self.bind_shadow(program)
         return program
 
-    def bind_shadow(self, program: Program, shadows: bool = True) -> None:
+    def bind_shadow(self, program: Program) -> None:
         """Set ``program``'s shadow uniforms (the map is bound to ``SHADOW_UNIT``)."""
         light = self.light
-        program.set("u_shadow_map", SHADOW_UNIT).set("u_shadows", int(light.shadows and shadows))
+        program.set("u_shadow_map", SHADOW_UNIT).set("u_shadows", int(light.shadows))
         program.set("u_shadow_texel", light.texel).set("u_shadow_bias", gd.SHADOW_BIAS)
 
     def unlit(self) -> Program:
