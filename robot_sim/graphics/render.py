@@ -5,7 +5,8 @@ seen by a camera into the current GL context, whether the Qt widget's or OSMesa'
 A frame: every item reads the Scene and options (:meth:`Item.update`); the shadow
 casters are drawn into the shadow map when their shadow changed; then, into a
 multisampled target cleared to the theme's background, the opaque layer, the
-translucent layer, the overlay layer over a cleared depth buffer and the text layer;
+translucent layer, the overlay layer over a depth buffer cleared where it draws, and the
+text layer;
 last the samples are resolved into the host's framebuffer.
 
 Cached items (``Item.cached``: the workspace cloud) are drawn over the cleared
@@ -54,6 +55,35 @@ def _clear(palette: Theme) -> None:
     GL.glDepthMask(GL.GL_TRUE)
     GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
     GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
+
+
+#: Pixels added on every side of the overlay's depth clear (multisample positions, lines).
+OVERLAY_CLEAR_MARGIN_PX = 2
+
+
+def _clear_overlay_depth(frame: Frame, overlay: list[Item]) -> None:
+    """Clear the depth buffer where the ``overlay`` items draw: over the pixel box of their
+    bounds grown by ``OVERLAY_CLEAR_MARGIN_PX``, all of it when a bound lies behind the
+    eye.  The overlay then sees only its own depth, as after a full clear, while
+    llvmpipe clears a small box instead of every sample of the picture."""
+    bounds = [item.bounds() for item in overlay]
+    points = np.concatenate(bounds) if bounds else np.zeros((0, 3))
+    if len(points) == 0:
+        return
+    pixels = frame.camera.project(points, frame.width, frame.height)
+    if np.isnan(pixels).any():
+        GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
+        return
+    x0, top = np.floor(pixels.min(axis=0) - OVERLAY_CLEAR_MARGIN_PX).astype(int)
+    x1, bottom = np.ceil(pixels.max(axis=0) + OVERLAY_CLEAR_MARGIN_PX).astype(int)
+    x0, x1 = max(x0, 0), min(x1, frame.width - 1)
+    y0, y1 = max(frame.height - 1 - bottom, 0), min(frame.height - 1 - top, frame.height - 1)  # GL rows, from the bottom
+    if x1 < x0 or y1 < y0:
+        return
+    GL.glEnable(GL.GL_SCISSOR_TEST)
+    GL.glScissor(int(x0), int(y0), int(x1 - x0 + 1), int(y1 - y0 + 1))
+    GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
+    GL.glDisable(GL.GL_SCISSOR_TEST)
 
 
 def _layer_state(layer: str) -> None:
@@ -242,9 +272,10 @@ class View:
             _clear(palette)
         for layer in LAYERS:
             _layer_state(layer)
+            drawn = sorted((i for i in shown if i.layer == layer and i not in cached), key=lambda i: i.order)
             if layer == "overlay":
-                GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-            for item in sorted((i for i in shown if i.layer == layer and i not in cached), key=lambda i: i.order):
+                _clear_overlay_depth(frame, drawn)
+            for item in drawn:
                 item.paint(frame)
         if msaa is not None:
             msaa.end()
