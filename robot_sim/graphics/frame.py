@@ -68,14 +68,26 @@ class Light:
     radius: float = 0.0
 
 
+def _orientation(placements: NDArray[np.float64]) -> int:
+    """+1 when every placement (N, 4, 4) keeps a mesh's winding (positive determinant),
+    -1 when every one mirrors it, 0 when they differ."""
+    det = np.linalg.det(placements[:, :3, :3])
+    return 1 if np.all(det > 0.0) else -1 if np.all(det < 0.0) else 0
+
+
 class Drawing:
     """Draws meshes with the program in use: the base of :class:`Frame`, and what the
-    shadow pass gives :meth:`Item.paint_depth` (only positions and placements count)."""
+    shadow pass gives :meth:`Item.paint_depth` (only positions and placements count).
+
+    ``culling``: closed meshes are drawn without their back faces (the shadow pass, and
+    the opaque layer unless an item draws a wireframe; see :class:`StaticMesh`)."""
 
     resources: Resources
+    culling: bool = False
 
-    def __init__(self, resources: Resources) -> None:
+    def __init__(self, resources: Resources, culling: bool = False) -> None:
         self.resources = resources
+        self.culling = culling
 
     def instances(self, mesh: str, placements: ArrayLike, colors: ArrayLike) -> None:
         """Draw unit mesh ``mesh`` (``meshes.unit_meshes``) once per world placement
@@ -85,15 +97,15 @@ class Drawing:
             return
         stream = self.resources.stream
         n = stream.instances(mats, colors)
-        self.resources.meshes[mesh].draw(n)
+        self.resources.meshes[mesh].draw(n, cull=_orientation(mats) if self.culling else 0)
         stream.end_instances()
 
-    @staticmethod
-    def mesh(mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
+    def mesh(self, mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
         """Draw ``mesh`` once at world ``placement`` (4, 4) in ``color``."""
-        set_constant_model(placement)
+        mat = np.asarray(placement, dtype=float).reshape(4, 4)
+        set_constant_model(mat)
         set_constant_color(color)
-        mesh.draw()
+        mesh.draw(cull=_orientation(mat[None]) if self.culling else 0)
 
 
 @dataclass

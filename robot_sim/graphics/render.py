@@ -196,7 +196,7 @@ class View:
         GL.glEnable(GL.GL_POLYGON_OFFSET_FILL)
         GL.glPolygonOffset(*gd.SHADOW_POLYGON_OFFSET)
         self._resources.programs["depth"].use().set("u_view_proj", light.matrix)
-        drawing = Drawing(self._resources)
+        drawing = Drawing(self._resources, culling=True)
         for item in casters:
             item.paint_depth(drawing)
         GL.glDisable(GL.GL_POLYGON_OFFSET_FILL)
@@ -276,6 +276,7 @@ class View:
             if layer == "overlay":
                 _clear_overlay_depth(frame, drawn)
             for item in drawn:
+                frame.culling = layer == "opaque"  # translucent pictures show back faces
                 item.paint(frame)
         if msaa is not None:
             msaa.end()
