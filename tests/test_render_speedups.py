@@ -16,7 +16,7 @@ from robot_sim.graphics import render as render_module  # noqa: E402
 from robot_sim.graphics.gl import GL  # noqa: E402
 from robot_sim.transforms import HomogeneousTransform  # noqa: E402
 
-from render_helpers import MAGENTA, Frames, framed, key_points, posed, render  # noqa: E402,F401
+from render_helpers import MAGENTA, Frames, framed, key_points, posed, render, robot_mask, sunk  # noqa: E402,F401
 
 
 def _full_clear(frame: object, overlay: object) -> None:
@@ -120,3 +120,121 @@ def test_culled_back_faces_leave_the_picture_as_drawn_with_them(render: Frames, 
         differ = np.abs(culled.astype(int) - whole.astype(int)).max(-1)
         assert (differ > 0).sum() <= 20 and (differ > 48).sum() == 0, (
             f"{look}, camera at {azimuth} deg: {(differ > 0).sum()} pixels differ, by up to {differ.max()}")
+
+
+# ---------------------------------------------- coarse meshes (detail, shadow casters)
+
+
+def test_clustering_moves_vertices_less_than_a_cell_and_keeps_sharp_edges() -> None:
+    from robot_sim.graphics.buffers import StaticMesh, clustered
+    from robot_sim.graphics.visuals import vertex_normals
+
+    vertices, faces = _lat_long_sphere(60)
+    mesh = StaticMesh(vertices, vertex_normals(vertices, faces), faces)
+    cell = 0.125
+    positions, normals, tri = clustered(mesh.vertices, mesh.normals, mesh.indices, cell)
+    assert len(tri) < 0.5 * mesh.n_triangles
+    # every vertex has a clustered vertex within a cell's diagonal; the clustered ones lie
+    # within the sphere (means of points on it) and near it
+    nearest = np.sqrt(((mesh.vertices[:, None, :] - positions[None, :, :]) ** 2).sum(-1)).min(axis=1)
+    assert nearest.max() < np.sqrt(3.0) * cell
+    radii = np.linalg.norm(positions, axis=1)
+    assert np.all(radii <= 1.0 + 1e-6) and np.all(radii >= 1.0 - np.sqrt(3.0) * cell)
+    assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
+    assert tri.max() < len(positions)
+    # a cube's faces meet at right angles: no vertex takes the mean of two faces' normals
+    from robot_sim.graphics.meshes import box_mesh
+
+    cube = StaticMesh.from_triangles(*box_mesh())
+    _, cube_normals, _ = clustered(cube.vertices, cube.normals, cube.indices, 10.0)
+    assert np.allclose(np.abs(cube_normals).max(axis=1), 1.0)
+
+
+def test_a_coarse_mesh_is_built_once_per_grid_and_only_when_it_saves() -> None:
+    from robot_sim.graphics.buffers import StaticMesh
+    from robot_sim.graphics.visuals import vertex_normals
+
+    vertices, faces = _lat_long_sphere(60)
+    mesh = StaticMesh(vertices, vertex_normals(vertices, faces), faces)
+    coarse = mesh.coarse(0.2)
+    assert coarse is not mesh and coarse.n_triangles <= 0.5 * mesh.n_triangles
+    assert mesh.coarse(0.15) is coarse  # the same power-of-two grid (1/8 m)
+    assert mesh.coarse(0.001) is mesh and mesh.coarse(0.0) is mesh
+
+
+def test_pixel_size_is_what_a_pixel_spans_in_the_picture() -> None:
+    camera = framed(np.array([[0.0, 0.0, 0.0], [0.5, 0.5, 0.8]]))
+    eye, target = camera.eye(), camera.target
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right, _ = camera.view_plane_axes()
+    for depth in (0.5 * camera.distance, camera.distance, 2.0 * camera.distance):
+        point = eye + depth * forward
+        size = camera.pixel_size(depth, 240)
+        pixels = camera.project(np.array([point, point + 10.0 * size * right]), 320, 240)
+        assert np.isclose(pixels[1, 0] - pixels[0, 0], 10.0, atol=1e-6)
+
+
+def _sphere_arm(rings: int, radius: float) -> go.Scene:
+    """The puma560 carrying a fine sphere mesh on every link."""
+    import dataclasses
+
+    from robot_sim.model.shapes import Mesh
+
+    kin = posed("puma560")
+    vertices, faces = _lat_long_sphere(rings)
+    visuals = tuple((Mesh((radius * vertices, faces), color=(0.7, 0.7, 0.75, 1.0)),) for _ in range(kin.robot.n_dofs))
+    return go.Scene(posed(dataclasses.replace(kin.robot, visuals=visuals), [0.4, -0.6, 0.9, 0.3, 0.7, -0.2]))
+
+
+def _far(mask: np.ndarray, other: np.ndarray, pixels: int) -> int:
+    """How many pixels of ``mask`` lie farther than ``pixels`` (square) from ``other``'s."""
+    grown = other.copy()
+    for axis in (0, 1):
+        for shift in range(1, pixels + 1):
+            grown |= np.roll(other, shift, axis) | np.roll(other, -shift, axis)
+    return int((mask & ~grown).sum())
+
+
+def test_fine_meshes_drawn_coarse_keep_their_silhouette_and_shadow(render: Frames,
+                                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """A mesh finer than the pixels (about 60 000 triangles a sphere, with a seam of
+    repeated vertices) drawn through its coarse stand-ins, and casting its shadow from
+    them: silhouettes and shadow outlines within 2 pixels of the full mesh's (but for a
+    few pixels at the threshold), and no seam opening (few pixels much changed)."""
+    from robot_sim.graphics import defs as gd
+    from robot_sim.graphics.buffers import StaticMesh
+
+    scene = _sphere_arm(170, 0.07)
+    options = go.GraphicsOptions(scene.kinematics.robot.n_dofs + 1)
+    camera = framed(key_points(scene.kinematics))
+    built: list[int] = []
+    coarse = StaticMesh.coarse
+
+    def counted(self: StaticMesh, cell: float) -> StaticMesh:
+        stand_in = coarse(self, cell)
+        built.append(stand_in.n_triangles)
+        return stand_in
+
+    with monkeypatch.context() as patch:
+        patch.setattr(StaticMesh, "coarse", counted)
+        drawn = render(camera, scene, options)
+    with monkeypatch.context() as patch:
+        patch.setattr(gd, "MESH_DETAIL_PX", 0.0)
+        patch.setattr(gd, "SHADOW_CASTER_CELL_TEXELS", 0.0)
+        full = render(camera, scene, options)
+    assert max(built) < 0.5 * 2 * 170 * 170 * 2, "no coarse stand-in was drawn"
+    background = render(camera, go.Scene(sunk(scene.kinematics)), options)
+    for what, drawn_mask, full_mask in (
+            ("silhouette", robot_mask(drawn, background), robot_mask(full, background)),
+            ("shadow", _dark(drawn, background), _dark(full, background))):
+        assert full_mask.sum() > 200, f"no {what} to compare"
+        far = _far(drawn_mask, full_mask, 2) + _far(full_mask, drawn_mask, 2)
+        assert far <= 3, f"{what}: {far} pixels moved by more than 2 pixels"
+        assert abs(int(drawn_mask.sum()) - int(full_mask.sum())) <= 0.03 * full_mask.sum(), what
+    changed = int((np.abs(drawn.astype(int) - full.astype(int)).max(axis=-1) > 30).sum())
+    assert changed <= 20, f"{changed} pixels changed by more than 30 levels (a seam opened?)"
+
+
+def _dark(image: np.ndarray, background: np.ndarray) -> np.ndarray:
+    """Pixels (H, W) at least 20 levels darker than the same view without the robot."""
+    return (background[..., :3].astype(int) - image[..., :3].astype(int)).min(axis=-1) >= 20

@@ -10,6 +10,8 @@ called with byte offsets (PyOpenGL's wrappers would keep the arrays alive per co
 from __future__ import annotations
 
 import ctypes
+import functools
+import math
 from typing import Any
 
 import numpy as np
@@ -67,6 +69,48 @@ def closed_winding(vertices: ArrayLike, indices: ArrayLike) -> int:
     return int(np.sign(volume))
 
 
+#: A coarse mesh (:meth:`StaticMesh.coarse`) is used only when it keeps at most this
+#: fraction of the triangles; else the mesh itself is drawn.
+COARSE_MAX_KEPT = 0.5
+
+
+#: Normals are told apart by rounding them to multiples of 1 / this (about 30 degrees):
+#: vertices of one cell whose normals differ more keep normals of their own.
+CLUSTER_NORMAL_STEPS = 2
+
+
+def clustered(vertices: NDArray[np.float32], normals: NDArray[np.float32], indices: NDArray[np.uint32],
+              cell: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """The mesh ``vertices``/``normals`` (V, 3), triangles ``indices`` (3F,) with its
+    vertices clustered on a grid of ``cell`` (the vertices' units, metres).
+
+    Every vertex moves to the mean of the distinct positions in its grid cell (vertices
+    at one position, to 1e-6, always share a cell, so seams of repeated vertices do not
+    open); it keeps its own normal direction class (``CLUSTER_NORMAL_STEPS``), averaged
+    over the cell, so sharp edges stay sharp.  Triangles with two corners in one cell
+    are dropped.  Every vertex moves by less than a cell's diagonal, so silhouettes and
+    shadows move by at most that.  Returns positions (K, 3), unit normals (K, 3) and
+    triangles (M, 3) into them."""
+    rounded = np.round(vertices.astype(np.float64), 6)
+    distinct, inverse = np.unique(rounded, axis=0, return_inverse=True)
+    _, cell_of_distinct, counts = np.unique(np.floor(distinct / cell).astype(np.int64), axis=0,
+                                            return_inverse=True, return_counts=True)
+    cell_of_distinct = cell_of_distinct.reshape(-1)
+    centres = np.stack([np.bincount(cell_of_distinct, weights=distinct[:, axis]) / counts for axis in range(3)], axis=1)
+    cells = cell_of_distinct[inverse.reshape(-1)]  # (V,) grid cell of every vertex
+    classes = np.rint(normals * CLUSTER_NORMAL_STEPS).astype(np.int64)
+    _, out, members = np.unique(np.c_[cells, classes], axis=0, return_inverse=True, return_counts=True)
+    out = out.reshape(-1)
+    summed = np.stack([np.bincount(out, weights=normals[:, axis]) for axis in range(3)], axis=1)
+    length = np.linalg.norm(summed, axis=1, keepdims=True)
+    mean_normals = np.where(length > 1e-12, summed / np.maximum(length, 1e-12), [0.0, 0.0, 1.0])
+    cell_of_out = np.zeros(len(members), dtype=np.int64)
+    cell_of_out[out] = cells
+    tri, tri_cells = out[indices.reshape(-1, 3)], cells[indices.reshape(-1, 3)]
+    keep = (tri_cells[:, 0] != tri_cells[:, 1]) & (tri_cells[:, 1] != tri_cells[:, 2]) & (tri_cells[:, 2] != tri_cells[:, 0])
+    return centres[cell_of_out], mean_normals, tri[keep]
+
+
 class StaticMesh:
     """Triangles uploaded once per context: ``vertices`` and ``normals`` (V, 3) float32,
     ``indices`` (F, 3) into them.  ``draw(n)`` draws n instances (0: once) with whatever
@@ -87,6 +131,12 @@ class StaticMesh:
             raise ValueError(f"StaticMesh: index {int(self.indices.max())} past {len(self.vertices)} vertices")
         self._handles: tuple[int, int] | None = None
         self._winding: int | None = None
+        self._coarse: dict[int, StaticMesh] = {}
+
+    @functools.cached_property
+    def radius(self) -> float:
+        """Distance (metres, mesh units) of the farthest vertex from the mesh's origin."""
+        return float(np.sqrt((self.vertices.astype(np.float64) ** 2).sum(axis=1).max(initial=0.0)))
 
     @property
     def winding(self) -> int:
@@ -94,6 +144,20 @@ class StaticMesh:
         if self._winding is None:
             self._winding = closed_winding(self.vertices, self.indices)
         return self._winding
+
+    def coarse(self, cell: float) -> StaticMesh:
+        """A cheaper stand-in for a picture in which ``cell`` metres (mesh units) are too
+        small to see: the mesh :func:`clustered` on the power-of-two grid at most ``cell``
+        wide, built once per grid; the mesh itself when that keeps more than
+        ``COARSE_MAX_KEPT`` of its triangles or ``cell`` is not positive."""
+        if not cell > 0.0:
+            return self
+        level = math.floor(math.log2(cell))
+        if level not in self._coarse:
+            vertices, normals, tri = clustered(self.vertices, self.normals, self.indices, 2.0 ** level)
+            fewer = len(tri) <= COARSE_MAX_KEPT * self.n_triangles
+            self._coarse[level] = StaticMesh(vertices, normals, tri) if fewer else self
+        return self._coarse[level]
 
     @classmethod
     def from_triangles(cls, vertices: ArrayLike, normals: ArrayLike) -> StaticMesh:
@@ -151,14 +215,21 @@ class StaticMesh:
         GL.glDisableVertexAttribArray(NORMAL)
 
     def delete(self) -> None:
-        """Delete the buffers (their context must be current); a later draw uploads again."""
+        """Delete the buffers, the coarse meshes' too (their context must be current); a
+        later draw uploads again."""
         if self._handles is not None:
             GL.glDeleteBuffers(2, list(self._handles))
             self._handles = None
+        for mesh in self._coarse.values():
+            if mesh is not self:
+                mesh.delete()
 
     def forget(self) -> None:
         """Drop the buffers' handles without deleting them (their context is gone)."""
         self._handles = None
+        for mesh in self._coarse.values():
+            if mesh is not self:
+                mesh.forget()
 
 
 class StaticPoints:

@@ -80,14 +80,19 @@ class Drawing:
     shadow pass gives :meth:`Item.paint_depth` (only positions and placements count).
 
     ``culling``: closed meshes are drawn without their back faces (the shadow pass, and
-    the opaque layer unless an item draws a wireframe; see :class:`StaticMesh`)."""
+    the opaque layer unless an item draws a wireframe; see :class:`StaticMesh`).
+    ``cell``: the size (metres) below which detail does not show; meshes are drawn as
+    their :meth:`StaticMesh.coarse` stand-ins for it (the shadow pass: a few texels; a
+    :class:`Frame` sizes it per mesh, see :meth:`Frame.detail`).
+    """
 
     resources: Resources
     culling: bool = False
+    cell: float = 0.0
 
-    def __init__(self, resources: Resources, culling: bool = False) -> None:
+    def __init__(self, resources: Resources, culling: bool = False, cell: float = 0.0) -> None:
         self.resources = resources
-        self.culling = culling
+        self.culling, self.cell = culling, cell
 
     def instances(self, mesh: str, placements: ArrayLike, colors: ArrayLike) -> None:
         """Draw unit mesh ``mesh`` (``meshes.unit_meshes``) once per world placement
@@ -101,11 +106,17 @@ class Drawing:
         stream.end_instances()
 
     def mesh(self, mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
-        """Draw ``mesh`` once at world ``placement`` (4, 4) in ``color``."""
+        """Draw ``mesh`` (or its coarse stand-in for ``cell``) once at world ``placement``
+        (4, 4, rigid) in ``color``."""
         mat = np.asarray(placement, dtype=float).reshape(4, 4)
         set_constant_model(mat)
         set_constant_color(color)
-        mesh.draw(cull=_orientation(mat[None]) if self.culling else 0)
+        mesh.coarse(self.detail(mesh, mat)).draw(cull=_orientation(mat[None]) if self.culling else 0)
+
+    def detail(self, mesh: StaticMesh, placement: NDArray[np.float64]) -> float:
+        """The size (metres) below which ``mesh`` at world ``placement`` (4, 4) shows no
+        detail: ``cell``."""
+        return self.cell
 
 
 @dataclass
@@ -128,7 +139,17 @@ class Frame(Drawing):
     texts: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.view_proj = self.camera.projection_matrix(self.width / self.height) @ self.camera.view_matrix()
+        view = self.camera.view_matrix()
+        self.view_proj = self.camera.projection_matrix(self.width / self.height) @ view
+        self._depth_row = -view[2]  # world point (homogeneous) -> depth in front of the eye
+
+    def detail(self, mesh: StaticMesh, placement: NDArray[np.float64]) -> float:
+        """``MESH_DETAIL_PX`` pixels at the depth of the nearest point of ``mesh``'s
+        bounding sphere at world ``placement`` (4, 4, rigid), in metres: meshes finer
+        than a pixel are drawn through a coarse stand-in (llvmpipe pays for every
+        triangle at every multisample, however small)."""
+        depth = float(self._depth_row @ placement[:, 3]) - mesh.radius
+        return gd.MESH_DETAIL_PX * self.camera.pixel_size(depth, self.height)
 
     def add_label(self, point: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
         """Write ``text`` next to world ``point`` in the text layer (theme colour by default)."""

@@ -196,7 +196,8 @@ class View:
         GL.glEnable(GL.GL_POLYGON_OFFSET_FILL)
         GL.glPolygonOffset(*gd.SHADOW_POLYGON_OFFSET)
         self._resources.programs["depth"].use().set("u_view_proj", light.matrix)
-        drawing = Drawing(self._resources, culling=True)
+        texel = 2.0 * light.radius / self._shadow.size  # metres a shadow texel covers
+        drawing = Drawing(self._resources, culling=True, cell=gd.SHADOW_CASTER_CELL_TEXELS * texel)
         for item in casters:
             item.paint_depth(drawing)
         GL.glDisable(GL.GL_POLYGON_OFFSET_FILL)
