@@ -238,3 +238,27 @@ def test_fine_meshes_drawn_coarse_keep_their_silhouette_and_shadow(render: Frame
 def _dark(image: np.ndarray, background: np.ndarray) -> np.ndarray:
     """Pixels (H, W) at least 20 levels darker than the same view without the robot."""
     return (background[..., :3].astype(int) - image[..., :3].astype(int)).min(axis=-1) >= 20
+
+
+# ------------------------------------------------------- the floor's shadow patch
+
+
+@pytest.mark.parametrize("name, q", [("stanford", [0.3, 0.9, 0.4, 0.0, 0.8, 0.0]),  # its base housing crosses the floor
+                                     ("puma560", [0.4, -0.6, 0.9, 0.3, 0.7, -0.2]),
+                                     ("humanoid7", [0.3, -0.5, 0.8, 1.1, -0.4, 0.6, 0.2])])
+@pytest.mark.parametrize("theme", ["dark", "light"])
+def test_shadow_patch_shaded_only_over_the_casters_footprint_equals_the_whole_patch(
+        render: Frames, name: str, q: list[float], theme: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    kin = posed(name, q)
+    options = go.GraphicsOptions(kin.robot.n_dofs + 1)
+    options.theme = theme
+    for azimuth in (0.0, 100.0, 200.0):
+        camera = framed(key_points(kin))
+        camera.orbit(azimuth, 0.0)
+        footprinted = render(camera, go.Scene(kin), options)
+        behind_eye = np.tile(camera.eye() + 2.0 * (camera.eye() - camera.target), (4, 1))  # scissor: everything
+        with monkeypatch.context() as patch:
+            patch.setattr(render_module, "shadow_footprint", lambda *args: behind_eye)
+            whole = render(camera, go.Scene(kin), options)
+        assert np.array_equal(footprinted, whole), (
+            f"{name}, camera at {azimuth} deg: {int((footprinted != whole).any(-1).sum())} pixels differ")

@@ -152,6 +152,7 @@ SPECULAR_STRENGTH = 0.35               # Blinn-Phong highlight of the key light
 SHININESS = 40.0                       # Blinn-Phong exponent
 SHADOW_MAP_SIZE = 1024                 # texels a side of the shadow map
 MESH_DETAIL_PX = 2.0                   # meshes are drawn with their vertices clustered on a grid up to this many pixels wide
+SHADOW_FOOTPRINT_MARGIN_TEXELS = 3.0   # the floor's shadow patch reaches this far past the casters (PCF taps: 1.75)
 SHADOW_CASTER_CELL_TEXELS = 4.0        # meshes cast shadows from their vertices clustered on a grid up to this many texels wide
 SHADOW_BIAS = 0.002                    # depth bias (light clip units / 2) against shadow acne
 SHADOW_POLYGON_OFFSET = (2.0, 4.0)     # glPolygonOffset(factor, units) of the shadow pass

@@ -56,8 +56,10 @@ class Resources:
 class Light:
     """The key light (unit vector towards it, shadowed), the fill light, and the shadow
     map's world -> light clip ``matrix`` and texel size (``shadows`` False: none); the
-    shadow map sees the sphere of ``radius`` about world ``centre`` (3,), which holds
-    every caster and its shadow on the floor."""
+    shadow map sees the sphere of ``radius`` metres about world ``centre`` (3,), which
+    holds every caster and its shadow on the floor; ``footprint`` (4, 3): the floor's
+    corners of the only region the casters can shade
+    (:func:`~robot_sim.graphics.lighting.shadow_footprint`)."""
 
     key: NDArray[np.float64]
     fill: NDArray[np.float64]
@@ -66,6 +68,7 @@ class Light:
     shadows: bool
     centre: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
     radius: float = 0.0
+    footprint: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
 
 def _orientation(placements: NDArray[np.float64]) -> int:
@@ -162,6 +165,23 @@ class Frame(Drawing):
     def add_text(self, box: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
         """Write ``text`` in the pixel ``box`` (left, top, right, bottom) in the text layer."""
         self.texts.append((np.asarray(box, dtype=float).reshape(4), text, rgba or self.theme.label))
+
+    def scissor_box(self, points: NDArray[np.float64], margin: int) -> tuple[int, int, int, int] | None:
+        """The GL scissor box (x, y from the bottom left, width, height) of the pixels the
+        hull of world ``points`` (N, 3) covers, grown by ``margin`` pixels; the whole
+        picture when a point lies behind the eye; None when nothing is covered."""
+        if len(points) == 0:
+            return None
+        pixels = self.camera.project(points, self.width, self.height)
+        if np.isnan(pixels).any():
+            return 0, 0, self.width, self.height
+        x0, top = np.floor(pixels.min(axis=0) - margin).astype(int)
+        x1, bottom = np.ceil(pixels.max(axis=0) + margin).astype(int)
+        x0, x1 = max(x0, 0), min(x1, self.width - 1)
+        y0, y1 = max(self.height - 1 - bottom, 0), min(self.height - 1 - top, self.height - 1)  # GL rows, from the bottom
+        if x1 < x0 or y1 < y0:
+            return None
+        return int(x0), int(y0), int(x1 - x0 + 1), int(y1 - y0 + 1)
 
     def pixel_matrix(self) -> NDArray[np.float64]:
         """Clip coordinates of pixels (x right, y down from the top row, z 0)."""

@@ -32,7 +32,7 @@ from robot_sim.graphics.camera import Camera
 from robot_sim.graphics.frame import SHADOW_UNIT, Drawing, Frame, Light, Resources
 from robot_sim.graphics.gl import GL, context_key
 from robot_sim.graphics.item import LAYERS, Item
-from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_sphere
+from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_footprint, shadow_sphere
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.targets import MultisampleTarget, ShadowTarget, max_samples
 from robot_sim.graphics.themes import Theme, theme
@@ -63,25 +63,15 @@ OVERLAY_CLEAR_MARGIN_PX = 2
 
 def _clear_overlay_depth(frame: Frame, overlay: list[Item]) -> None:
     """Clear the depth buffer where the ``overlay`` items draw: over the pixel box of their
-    bounds grown by ``OVERLAY_CLEAR_MARGIN_PX``, all of it when a bound lies behind the
-    eye.  The overlay then sees only its own depth, as after a full clear, while
-    llvmpipe clears a small box instead of every sample of the picture."""
+    bounds grown by ``OVERLAY_CLEAR_MARGIN_PX`` (:meth:`Frame.scissor_box`).  The overlay then
+    sees only its own depth, as after a full clear, while llvmpipe clears a small box
+    instead of every sample of the picture."""
     bounds = [item.bounds() for item in overlay]
-    points = np.concatenate(bounds) if bounds else np.zeros((0, 3))
-    if len(points) == 0:
-        return
-    pixels = frame.camera.project(points, frame.width, frame.height)
-    if np.isnan(pixels).any():
-        GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-        return
-    x0, top = np.floor(pixels.min(axis=0) - OVERLAY_CLEAR_MARGIN_PX).astype(int)
-    x1, bottom = np.ceil(pixels.max(axis=0) + OVERLAY_CLEAR_MARGIN_PX).astype(int)
-    x0, x1 = max(x0, 0), min(x1, frame.width - 1)
-    y0, y1 = max(frame.height - 1 - bottom, 0), min(frame.height - 1 - top, frame.height - 1)  # GL rows, from the bottom
-    if x1 < x0 or y1 < y0:
+    box = frame.scissor_box(np.concatenate(bounds) if bounds else np.zeros((0, 3)), OVERLAY_CLEAR_MARGIN_PX)
+    if box is None:
         return
     GL.glEnable(GL.GL_SCISSOR_TEST)
-    GL.glScissor(int(x0), int(y0), int(x1 - x0 + 1), int(y1 - y0 + 1))
+    GL.glScissor(*box)
     GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
     GL.glDisable(GL.GL_SCISSOR_TEST)
 
@@ -179,8 +169,10 @@ class View:
         if not options.shadows or len(points) == 0:
             return Light(key, fill_light(camera.azimuth_deg), np.eye(4), 1.0, False)
         centre, radius = shadow_sphere(points, key)
-        light = Light(key, fill_light(camera.azimuth_deg), light_matrix(key, centre, radius),
-                      1.0 / self._shadow.size, True, centre, radius)
+        matrix = light_matrix(key, centre, radius)
+        margin = gd.SHADOW_FOOTPRINT_MARGIN_TEXELS * 2.0 / self._shadow.size  # light clip spans 2 a side
+        light = Light(key, fill_light(camera.azimuth_deg), matrix, 1.0 / self._shadow.size, True, centre, radius,
+                      shadow_footprint(matrix, key, points, margin))
         state = (light.matrix.tobytes(), tuple(item.shadow_key() for item in casters))
         if state != self._shadow_state:
             self._draw_shadow(light, casters)
