@@ -142,12 +142,22 @@ def test_clustering_moves_vertices_less_than_a_cell_and_keeps_sharp_edges() -> N
     assert np.all(radii <= 1.0 + 1e-6) and np.all(radii >= 1.0 - np.sqrt(3.0) * cell)
     assert np.allclose(np.linalg.norm(normals, axis=1), 1.0)
     assert tri.max() < len(positions)
-    # a cube's faces meet at right angles: no vertex takes the mean of two faces' normals
-    from robot_sim.graphics.meshes import box_mesh
-
-    cube = StaticMesh.from_triangles(*box_mesh())
-    _, cube_normals, _ = clustered(cube.vertices, cube.normals, cube.indices, 10.0)
-    assert np.allclose(np.abs(cube_normals).max(axis=1), 1.0)
+    # two finely tessellated flat faces meeting at a 10 degree crease (flat shaded: the
+    # crease's vertices repeated with either face's normal): every clustered normal is
+    # one of the faces', none a mean of both (that streaks flat faces)
+    u, v = np.meshgrid(np.linspace(0.0, 1.0, 41), np.linspace(0.0, 1.0, 41), indexing="ij")
+    tilt = np.radians(10.0)
+    flat = np.stack([-u, v, np.zeros_like(u)], -1).reshape(-1, 3)
+    tilted = np.stack([u * np.cos(tilt), v, u * np.sin(tilt)], -1).reshape(-1, 3)
+    grid = np.arange(41 * 41).reshape(41, 41)
+    quads = np.concatenate([np.stack([grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:]], -1).reshape(-1, 3),
+                            np.stack([grid[:-1, :-1], grid[1:, 1:], grid[:-1, 1:]], -1).reshape(-1, 3)])
+    face_normals = np.array([[0.0, 0.0, 1.0], [-np.sin(tilt), 0.0, np.cos(tilt)]])
+    crease = StaticMesh(np.vstack([flat, tilted]), np.repeat(face_normals, len(flat), axis=0),
+                        np.vstack([quads, quads + len(flat)]))
+    _, crease_normals, crease_tri = clustered(crease.vertices, crease.normals, crease.indices, 0.1)
+    assert len(crease_tri) < 0.5 * crease.n_triangles
+    assert np.all(np.abs(crease_normals @ face_normals.T).max(axis=1) > 1.0 - 1e-6)
 
 
 def test_a_coarse_mesh_is_built_once_per_grid_and_only_when_it_saves() -> None:

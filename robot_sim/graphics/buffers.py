@@ -74,9 +74,9 @@ def closed_winding(vertices: ArrayLike, indices: ArrayLike) -> int:
 COARSE_MAX_KEPT = 0.5
 
 
-#: Normals are told apart by rounding them to multiples of 1 / this (about 30 degrees):
+#: Normals are told apart by rounding them to multiples of 1 / this (about 7 degrees):
 #: vertices of one cell whose normals differ more keep normals of their own.
-CLUSTER_NORMAL_STEPS = 2
+CLUSTER_NORMAL_STEPS = 8
 
 
 def clustered(vertices: NDArray[np.float32], normals: NDArray[np.float32], indices: NDArray[np.uint32],
