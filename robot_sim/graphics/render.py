@@ -81,15 +81,16 @@ def _layer_state(layer: str) -> None:
     GL.glEnable(GL.GL_DEPTH_TEST)
     GL.glDepthFunc(GL.GL_LEQUAL)
     GL.glDisable(GL.GL_CULL_FACE)
+    # the picture's alpha stays the clear's 1 (opaque pictures): no layer writes it, so a
+    # colour's alpha (a URDF material's 0.8) never reaches it (and llvmpipe blends a
+    # little faster than with an alpha blended to itself)
+    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_FALSE)
     if layer == "opaque":
         GL.glDisable(GL.GL_BLEND)
         GL.glDepthMask(GL.GL_TRUE)
-        # a colour's alpha (a URDF material's 0.8) must not reach the picture: it stays opaque
-        GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_FALSE)
         return
-    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
-    GL.glEnable(GL.GL_BLEND)  # colours blend; the framebuffer's alpha stays 1 (opaque pictures)
-    GL.glBlendFuncSeparate(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA, GL.GL_ZERO, GL.GL_ONE)
+    GL.glEnable(GL.GL_BLEND)  # colours blend
+    GL.glBlendFunc(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA)
     GL.glDepthMask(GL.GL_TRUE if layer == "overlay" else GL.GL_FALSE)
     if layer == "text":
         GL.glDisable(GL.GL_DEPTH_TEST)
