@@ -186,13 +186,12 @@ class StaticMesh:
         GL.glBindBuffer(GL.GL_ELEMENT_ARRAY_BUFFER, 0)
         self._handles = (vbo, ebo)
 
-    def draw(self, instances: int = 0, mode: int | None = None, cull: int = 0) -> None:
+    def draw(self, instances: int = 0, mode: int | None = None, cull: bool = False) -> None:
         """Draw the triangles (or ``mode`` primitives over the same indices), ``instances``
-        times instanced when > 0; with back faces culled when the mesh is closed and
-        ``cull`` is not 0: +1 for placements that keep the winding (positive
-        determinant), -1 for mirroring ones."""
+        times instanced when > 0; with back faces culled when ``cull`` and the mesh is
+        closed (its placements must keep the winding: positive determinants)."""
         self.upload()
-        facing = self.winding * cull if cull else 0
+        facing = self.winding if cull else 0
         if facing:
             GL.glEnable(GL.GL_CULL_FACE)
             GL.glCullFace(GL.GL_BACK if facing > 0 else GL.GL_FRONT)

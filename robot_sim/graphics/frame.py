@@ -71,11 +71,10 @@ class Light:
     footprint: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
 
 
-def _orientation(placements: NDArray[np.float64]) -> int:
-    """+1 when every placement (N, 4, 4) keeps a mesh's winding (positive determinant),
-    -1 when every one mirrors it, 0 when they differ."""
-    det = np.linalg.det(placements[:, :3, :3])
-    return 1 if np.all(det > 0.0) else -1 if np.all(det < 0.0) else 0
+def _keep_winding(placements: NDArray[np.float64]) -> bool:
+    """True when every placement (N, 4, 4) keeps a mesh's winding (positive determinant):
+    back faces may then be culled (a mirroring placement would turn them to the front)."""
+    return bool(np.all(np.linalg.det(placements[:, :3, :3]) > 0.0))
 
 
 class Drawing:
@@ -105,7 +104,7 @@ class Drawing:
             return
         stream = self.resources.stream
         n = stream.instances(mats, colors)
-        self.resources.meshes[mesh].draw(n, cull=_orientation(mats) if self.culling else 0)
+        self.resources.meshes[mesh].draw(n, cull=self.culling and _keep_winding(mats))
         stream.end_instances()
 
     def mesh(self, mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
@@ -114,7 +113,7 @@ class Drawing:
         mat = np.asarray(placement, dtype=float).reshape(4, 4)
         set_constant_model(mat)
         set_constant_color(color)
-        mesh.coarse(self.detail(mesh, mat)).draw(cull=_orientation(mat[None]) if self.culling else 0)
+        mesh.coarse(self.detail(mesh, mat)).draw(cull=self.culling and _keep_winding(mat[None]))
 
     def detail(self, mesh: StaticMesh, placement: NDArray[np.float64]) -> float:
         """The size (metres) below which ``mesh`` at world ``placement`` (4, 4) shows no
