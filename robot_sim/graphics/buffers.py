@@ -130,7 +130,6 @@ class StaticMesh:
         if len(self.indices) and int(self.indices.max()) >= len(self.vertices):
             raise ValueError(f"StaticMesh: index {int(self.indices.max())} past {len(self.vertices)} vertices")
         self._handles: tuple[int, int] | None = None
-        self._winding: int | None = None
         self._coarse: dict[int, StaticMesh] = {}
 
     @functools.cached_property
@@ -138,12 +137,10 @@ class StaticMesh:
         """Distance (metres, mesh units) of the farthest vertex from the mesh's origin."""
         return float(np.sqrt((self.vertices.astype(np.float64) ** 2).sum(axis=1).max(initial=0.0)))
 
-    @property
+    @functools.cached_property
     def winding(self) -> int:
         """:func:`closed_winding` of the mesh (computed on first use)."""
-        if self._winding is None:
-            self._winding = closed_winding(self.vertices, self.indices)
-        return self._winding
+        return closed_winding(self.vertices, self.indices)
 
     def coarse(self, cell: float) -> StaticMesh:
         """A cheaper stand-in for a picture in which ``cell`` metres (mesh units) are too
