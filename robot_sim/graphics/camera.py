@@ -128,6 +128,13 @@ class Camera:
         self.target = target
         self.distance = float(np.clip(distance, gd.CAMERA_MIN_DISTANCE, gd.CAMERA_MAX_DISTANCE))
 
+    def pixel_size(self, depth: float, height: int) -> float:
+        """Metres a pixel spans at ``depth`` metres in front of the eye (along the view
+        axis; at least the near plane's) in a picture ``height`` pixels high; the same at
+        every depth when orthographic."""
+        span = self.distance if self.orthographic else max(depth, self.distance * gd.CAMERA_NEAR_FRAC)
+        return 2.0 * span * math.tan(math.radians(self.fov_deg) / 2.0) / max(int(height), 1)
+
     def view_matrix(self) -> NDArray[np.float64]:
         """World -> eye transform (4, 4) (OpenGL eye space: x right, y up, looking down -z)."""
         eye = self.eye()

@@ -56,8 +56,10 @@ class Resources:
 class Light:
     """The key light (unit vector towards it, shadowed), the fill light, and the shadow
     map's world -> light clip ``matrix`` and texel size (``shadows`` False: none); the
-    shadow map sees the sphere of ``radius`` about world ``centre`` (3,), which holds
-    every caster and its shadow on the floor."""
+    shadow map sees the sphere of ``radius`` metres about world ``centre`` (3,), which
+    holds every caster and its shadow on the floor; ``footprint`` (4, 3): the floor's
+    corners of the only region the casters can shade
+    (:func:`~robot_sim.graphics.lighting.shadow_footprint`)."""
 
     key: NDArray[np.float64]
     fill: NDArray[np.float64]
@@ -66,16 +68,33 @@ class Light:
     shadows: bool
     centre: NDArray[np.float64] = field(default_factory=lambda: np.zeros(3))
     radius: float = 0.0
+    footprint: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
+
+
+def _keep_winding(placements: NDArray[np.float64]) -> bool:
+    """True when every placement (N, 4, 4) keeps a mesh's winding (positive determinant):
+    back faces may then be culled (a mirroring placement would turn them to the front)."""
+    return bool(np.all(np.linalg.det(placements[:, :3, :3]) > 0.0))
 
 
 class Drawing:
     """Draws meshes with the program in use: the base of :class:`Frame`, and what the
-    shadow pass gives :meth:`Item.paint_depth` (only positions and placements count)."""
+    shadow pass gives :meth:`Item.paint_depth` (only positions and placements count).
+
+    ``culling``: closed meshes are drawn without their back faces (the shadow pass, and
+    the opaque layer unless an item draws a wireframe; see :class:`StaticMesh`).
+    ``cell``: the size (metres) below which detail does not show; meshes are drawn as
+    their :meth:`StaticMesh.coarse` stand-ins for it (the shadow pass: a few texels; a
+    :class:`Frame` sizes it per mesh, see :meth:`Frame.detail`).
+    """
 
     resources: Resources
+    culling: bool = False
+    cell: float = 0.0
 
-    def __init__(self, resources: Resources) -> None:
+    def __init__(self, resources: Resources, culling: bool = False, cell: float = 0.0) -> None:
         self.resources = resources
+        self.culling, self.cell = culling, cell
 
     def instances(self, mesh: str, placements: ArrayLike, colors: ArrayLike) -> None:
         """Draw unit mesh ``mesh`` (``meshes.unit_meshes``) once per world placement
@@ -85,15 +104,21 @@ class Drawing:
             return
         stream = self.resources.stream
         n = stream.instances(mats, colors)
-        self.resources.meshes[mesh].draw(n)
+        self.resources.meshes[mesh].draw(n, cull=self.culling and _keep_winding(mats))
         stream.end_instances()
 
-    @staticmethod
-    def mesh(mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
-        """Draw ``mesh`` once at world ``placement`` (4, 4) in ``color``."""
-        set_constant_model(placement)
+    def mesh(self, mesh: StaticMesh, placement: ArrayLike, color: ArrayLike) -> None:
+        """Draw ``mesh`` (or its coarse stand-in for ``cell``) once at world ``placement``
+        (4, 4, rigid) in ``color``."""
+        mat = np.asarray(placement, dtype=float).reshape(4, 4)
+        set_constant_model(mat)
         set_constant_color(color)
-        mesh.draw()
+        mesh.coarse(self.detail(mesh, mat)).draw(cull=self.culling and _keep_winding(mat[None]))
+
+    def detail(self, mesh: StaticMesh, placement: NDArray[np.float64]) -> float:
+        """The size (metres) below which ``mesh`` at world ``placement`` (4, 4) shows no
+        detail: ``cell``."""
+        return self.cell
 
 
 @dataclass
@@ -116,7 +141,17 @@ class Frame(Drawing):
     texts: list[tuple[NDArray[np.float64], str, RGBA]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self.view_proj = self.camera.projection_matrix(self.width / self.height) @ self.camera.view_matrix()
+        view = self.camera.view_matrix()
+        self.view_proj = self.camera.projection_matrix(self.width / self.height) @ view
+        self._depth_row = -view[2]  # world point (homogeneous) -> depth in front of the eye
+
+    def detail(self, mesh: StaticMesh, placement: NDArray[np.float64]) -> float:
+        """``MESH_DETAIL_PX`` pixels at the depth of the nearest point of ``mesh``'s
+        bounding sphere at world ``placement`` (4, 4, rigid), in metres: meshes finer
+        than a pixel are drawn through a coarse stand-in (llvmpipe pays for every
+        triangle at every multisample, however small)."""
+        depth = float(self._depth_row @ placement[:, 3]) - mesh.radius
+        return gd.MESH_DETAIL_PX * self.camera.pixel_size(depth, self.height)
 
     def add_label(self, point: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
         """Write ``text`` next to world ``point`` in the text layer (theme colour by default)."""
@@ -129,6 +164,23 @@ class Frame(Drawing):
     def add_text(self, box: ArrayLike, text: str, rgba: RGBA | None = None) -> None:
         """Write ``text`` in the pixel ``box`` (left, top, right, bottom) in the text layer."""
         self.texts.append((np.asarray(box, dtype=float).reshape(4), text, rgba or self.theme.label))
+
+    def scissor_box(self, points: NDArray[np.float64], margin: int) -> tuple[int, int, int, int] | None:
+        """The GL scissor box (x, y from the bottom left, width, height) of the pixels the
+        hull of world ``points`` (N, 3) covers, grown by ``margin`` pixels; the whole
+        picture when a point lies behind the eye; None when nothing is covered."""
+        if len(points) == 0:
+            return None
+        pixels = self.camera.project(points, self.width, self.height)
+        if np.isnan(pixels).any():
+            return 0, 0, self.width, self.height
+        x0, top = np.floor(pixels.min(axis=0) - margin).astype(int)
+        x1, bottom = np.ceil(pixels.max(axis=0) + margin).astype(int)
+        x0, x1 = max(x0, 0), min(x1, self.width - 1)
+        y0, y1 = max(self.height - 1 - bottom, 0), min(self.height - 1 - top, self.height - 1)  # GL rows, from the bottom
+        if x1 < x0 or y1 < y0:
+            return None
+        return int(x0), int(y0), int(x1 - x0 + 1), int(y1 - y0 + 1)
 
     def pixel_matrix(self) -> NDArray[np.float64]:
         """Clip coordinates of pixels (x right, y down from the top row, z 0)."""
@@ -156,9 +208,13 @@ class Frame(Drawing):
     def lit(self, alpha: float = 1.0, markers: bool = False) -> Program:
         """The lit program in use with this frame's camera, lights and shadow map, every
         fragment's alpha multiplied by ``alpha``; ``markers`` (the overlay layer's axes,
-        target and arrows) are lit from the eye instead, with no shadow, so that they
-        read in their colours from every side."""
+        target and arrows): the marker program instead, lit from the eye with no shadow
+        and no highlight, so that they read in their colours from every side."""
         light, theme = self.light, self.theme
+        if markers:
+            program = self.resources.programs["marker"].use()
+            program.set("u_view_proj", self.view_proj).set("u_eye", self.camera.eye())
+            return program.set("u_alpha", float(alpha)).set("u_below_floor", theme.below_floor)
         program = self.resources.programs["lit"].use()
         program.set("u_view_proj", self.view_proj).set("u_light_matrix", light.matrix)
         program.set("u_key_dir", light.key).set("u_key_color", gd.KEY_LIGHT_COLOR)
@@ -166,14 +222,14 @@ class Frame(Drawing):
         program.set("u_sky_color", gd.SKY_AMBIENT).set("u_ground_color", gd.GROUND_AMBIENT)
         program.set("u_eye", self.camera.eye()).set("u_specular", gd.SPECULAR_STRENGTH)
         program.set("u_shininess", gd.SHININESS).set("u_alpha", float(alpha))
-        program.set("u_below_floor", theme.below_floor).set("u_headlight", int(markers))
-        self.bind_shadow(program, not markers)
+        program.set("u_below_floor", theme.below_floor)
+        self.bind_shadow(program)
         return program
 
-    def bind_shadow(self, program: Program, shadows: bool = True) -> None:
+    def bind_shadow(self, program: Program) -> None:
         """Set ``program``'s shadow uniforms (the map is bound to ``SHADOW_UNIT``)."""
         light = self.light
-        program.set("u_shadow_map", SHADOW_UNIT).set("u_shadows", int(light.shadows and shadows))
+        program.set("u_shadow_map", SHADOW_UNIT).set("u_shadows", int(light.shadows))
         program.set("u_shadow_texel", light.texel).set("u_shadow_bias", gd.SHADOW_BIAS)
 
     def unlit(self) -> Program:

@@ -25,6 +25,17 @@ if TYPE_CHECKING:
 
 LAYERS = ("opaque", "translucent", "overlay", "text")
 
+#: Corners of the cube of half side 1 about the origin (8, 3).
+_CUBE = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+
+
+def around(centres: NDArray[np.float64], half: NDArray[np.float64] | float) -> NDArray[np.float64]:
+    """Corners (8N, 3) of the cubes of half side ``half`` (scalar or (N,), metres) about
+    world ``centres`` (N, 3): their hull encloses a ball of radius ``half`` about each."""
+    centres = np.asarray(centres, dtype=float).reshape(-1, 1, 3)
+    halves = np.broadcast_to(np.asarray(half, dtype=float).reshape(-1), (len(centres),))
+    return (centres + halves[:, None, None] * _CUBE).reshape(-1, 3)
+
 
 class Item:
     """One drawable of the scene.  Subclasses set ``layer`` and ``order``, implement
@@ -62,7 +73,10 @@ class Item:
         return None
 
     def bounds(self) -> NDArray[np.float64]:
-        """World points (N, 3) enclosing what this item casts shadows from."""
+        """World points (N, 3) whose convex hull encloses what this item draws: the shadow
+        map is fitted to its casters' bounds, and the overlay layer clears depth only over
+        the picture of its items' bounds, so an overlay item that tests depth must enclose
+        every fragment it draws (:func:`around` helps)."""
         return np.zeros((0, 3))
 
     def release(self, current: bool) -> None:

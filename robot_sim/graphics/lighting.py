@@ -66,3 +66,22 @@ def light_matrix(towards_light: ArrayLike, centre: ArrayLike, radius: float) -> 
     proj = np.diag([1.0 / r, 1.0 / r, -1.0 / r, 1.0])  # distance from the eye r..3r -> clip z -1..1
     proj[2, 3] = -2.0
     return proj @ view
+
+
+def shadow_footprint(matrix: ArrayLike, towards_light: ArrayLike, casters: ArrayLike,
+                     margin: float) -> NDArray[np.float64]:
+    """Corners (4, 3) on the floor z = 0 of the only region where ``casters`` (N, 3
+    world points whose hull holds every caster) can cast a shadow from the directional
+    light of world -> light clip ``matrix`` (:func:`light_matrix`) towards
+    ``towards_light``: the box of the casters in the light's x and y, grown by
+    ``margin`` (light clip units) on each side, carried down to the floor along the
+    light.  A floor point outside it sees no caster in the shadow map (its lookups fall
+    where the map is clear), whatever the casters' heights."""
+    m = np.asarray(matrix, dtype=float)
+    pts = np.asarray(casters, dtype=float).reshape(-1, 3)
+    xy = (np.c_[pts, np.ones(len(pts))] @ m.T)[:, :2]
+    (x0, y0), (x1, y1) = xy.min(axis=0) - margin, xy.max(axis=0) + margin
+    corners = np.array([[x0, y0, 0.0, 1.0], [x1, y0, 0.0, 1.0], [x1, y1, 0.0, 1.0], [x0, y1, 0.0, 1.0]])
+    world = (corners @ np.linalg.inv(m).T)[:, :3]
+    back = np.asarray(towards_light, dtype=float)
+    return world - (world[:, 2] / back[2])[:, None] * back

@@ -41,7 +41,8 @@ def disk_mesh(slices: int, z: float, facing: float) -> tuple[NDArray, NDArray]:
     c, s = _ring(slices)
     rim = np.c_[c, s, np.full_like(c, z)]
     centre = np.tile([0.0, 0.0, z], (slices, 1))
-    verts = np.stack([centre, rim[:-1], rim[1:]], axis=1)
+    ahead, behind = (rim[:-1], rim[1:]) if facing > 0 else (rim[1:], rim[:-1])  # counter-clockwise seen from outside
+    verts = np.stack([centre, ahead, behind], axis=1)
     normals = np.broadcast_to([0.0, 0.0, facing], verts.shape)
     return verts, normals
 
@@ -82,7 +83,8 @@ def box_mesh() -> tuple[NDArray, NDArray]:
             u, v = np.eye(3)[(axis + 1) % 3], np.eye(3)[(axis + 2) % 3]
             n = sign * np.eye(3)[axis]
             corners = 0.5 * np.array([n - u - v, n + u - v, n + u + v, n - u + v])
-            verts.append(corners[[0, 1, 2, 0, 2, 3]].reshape(2, 3, 3))
+            order = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]  # counter-clockwise seen from outside
+            verts.append(corners[order].reshape(2, 3, 3))
             normals.append(np.broadcast_to(n, (2, 3, 3)))
     return np.concatenate(verts), np.concatenate(normals)
 

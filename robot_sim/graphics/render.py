@@ -5,7 +5,8 @@ seen by a camera into the current GL context, whether the Qt widget's or OSMesa'
 A frame: every item reads the Scene and options (:meth:`Item.update`); the shadow
 casters are drawn into the shadow map when their shadow changed; then, into a
 multisampled target cleared to the theme's background, the opaque layer, the
-translucent layer, the overlay layer over a cleared depth buffer and the text layer;
+translucent layer, the overlay layer over a depth buffer cleared where it draws, and the
+text layer;
 last the samples are resolved into the host's framebuffer.
 
 Cached items (``Item.cached``: the workspace cloud) are drawn over the cleared
@@ -31,7 +32,7 @@ from robot_sim.graphics.camera import Camera
 from robot_sim.graphics.frame import SHADOW_UNIT, Drawing, Frame, Light, Resources
 from robot_sim.graphics.gl import GL, context_key
 from robot_sim.graphics.item import LAYERS, Item
-from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_sphere
+from robot_sim.graphics.lighting import fill_light, key_light, light_matrix, shadow_footprint, shadow_sphere
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.targets import MultisampleTarget, ShadowTarget, max_samples
 from robot_sim.graphics.themes import Theme, theme
@@ -56,20 +57,40 @@ def _clear(palette: Theme) -> None:
     GL.glClear(GL.GL_COLOR_BUFFER_BIT | GL.GL_DEPTH_BUFFER_BIT)
 
 
+#: Pixels added on every side of the overlay's depth clear (multisample positions, lines).
+OVERLAY_CLEAR_MARGIN_PX = 2
+
+
+def _clear_overlay_depth(frame: Frame, overlay: list[Item]) -> None:
+    """Clear the depth buffer where the ``overlay`` items draw: over the pixel box of their
+    bounds grown by ``OVERLAY_CLEAR_MARGIN_PX`` (:meth:`Frame.scissor_box`).  The overlay then
+    sees only its own depth, as after a full clear, while llvmpipe clears a small box
+    instead of every sample of the picture."""
+    bounds = [item.bounds() for item in overlay]
+    box = frame.scissor_box(np.concatenate(bounds) if bounds else np.zeros((0, 3)), OVERLAY_CLEAR_MARGIN_PX)
+    if box is None:
+        return
+    GL.glEnable(GL.GL_SCISSOR_TEST)
+    GL.glScissor(*box)
+    GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
+    GL.glDisable(GL.GL_SCISSOR_TEST)
+
+
 def _layer_state(layer: str) -> None:
     """GL state of a layer (set at its start)."""
     GL.glEnable(GL.GL_DEPTH_TEST)
     GL.glDepthFunc(GL.GL_LEQUAL)
     GL.glDisable(GL.GL_CULL_FACE)
+    # the picture's alpha stays the clear's 1 (opaque pictures): no layer writes it, so a
+    # colour's alpha (a URDF material's 0.8) never reaches it (and llvmpipe blends a
+    # little faster than with an alpha blended to itself)
+    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_FALSE)
     if layer == "opaque":
         GL.glDisable(GL.GL_BLEND)
         GL.glDepthMask(GL.GL_TRUE)
-        # a colour's alpha (a URDF material's 0.8) must not reach the picture: it stays opaque
-        GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_FALSE)
         return
-    GL.glColorMask(GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE, GL.GL_TRUE)
-    GL.glEnable(GL.GL_BLEND)  # colours blend; the framebuffer's alpha stays 1 (opaque pictures)
-    GL.glBlendFuncSeparate(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA, GL.GL_ZERO, GL.GL_ONE)
+    GL.glEnable(GL.GL_BLEND)  # colours blend
+    GL.glBlendFunc(GL.GL_SRC_ALPHA, GL.GL_ONE_MINUS_SRC_ALPHA)
     GL.glDepthMask(GL.GL_TRUE if layer == "overlay" else GL.GL_FALSE)
     if layer == "text":
         GL.glDisable(GL.GL_DEPTH_TEST)
@@ -149,8 +170,10 @@ class View:
         if not options.shadows or len(points) == 0:
             return Light(key, fill_light(camera.azimuth_deg), np.eye(4), 1.0, False)
         centre, radius = shadow_sphere(points, key)
-        light = Light(key, fill_light(camera.azimuth_deg), light_matrix(key, centre, radius),
-                      1.0 / self._shadow.size, True, centre, radius)
+        matrix = light_matrix(key, centre, radius)
+        margin = gd.SHADOW_FOOTPRINT_MARGIN_TEXELS * 2.0 / self._shadow.size  # light clip spans 2 a side
+        light = Light(key, fill_light(camera.azimuth_deg), matrix, 1.0 / self._shadow.size, True, centre, radius,
+                      shadow_footprint(matrix, key, points, margin))
         state = (light.matrix.tobytes(), tuple(item.shadow_key() for item in casters))
         if state != self._shadow_state:
             self._draw_shadow(light, casters)
@@ -166,7 +189,8 @@ class View:
         GL.glEnable(GL.GL_POLYGON_OFFSET_FILL)
         GL.glPolygonOffset(*gd.SHADOW_POLYGON_OFFSET)
         self._resources.programs["depth"].use().set("u_view_proj", light.matrix)
-        drawing = Drawing(self._resources)
+        texel = 2.0 * light.radius / self._shadow.size  # metres a shadow texel covers
+        drawing = Drawing(self._resources, culling=True, cell=gd.SHADOW_CASTER_CELL_TEXELS * texel)
         for item in casters:
             item.paint_depth(drawing)
         GL.glDisable(GL.GL_POLYGON_OFFSET_FILL)
@@ -242,9 +266,11 @@ class View:
             _clear(palette)
         for layer in LAYERS:
             _layer_state(layer)
+            drawn = sorted((i for i in shown if i.layer == layer and i not in cached), key=lambda i: i.order)
             if layer == "overlay":
-                GL.glClear(GL.GL_DEPTH_BUFFER_BIT)
-            for item in sorted((i for i in shown if i.layer == layer and i not in cached), key=lambda i: i.order):
+                _clear_overlay_depth(frame, drawn)
+            for item in drawn:
+                frame.culling = layer == "opaque"  # translucent pictures show back faces
                 item.paint(frame)
         if msaa is not None:
             msaa.end()

@@ -68,6 +68,17 @@ float lit_fraction(vec4 light_clip) {
 }
 """
 
+# Shared by the lit and the marker fragment shaders: the normal turned to the viewer
+# (two-sided: inner faces of open meshes), and the tint of what lies under the floor.
+_SURFACE_GLSL = """
+uniform vec3 u_eye;
+uniform vec4 u_below_floor;
+vec3 facing(vec3 n, vec3 v) { return dot(n, v) < 0.0 ? -n : n; }
+vec3 under_floor(vec3 color, vec3 world) {
+    return world.z < 0.0 ? mix(color, u_below_floor.rgb, u_below_floor.a) : color;
+}
+"""
+
 _LIGHT_GLSL = """
 uniform vec3 u_key_dir;
 uniform vec3 u_key_color;
@@ -75,14 +86,11 @@ uniform vec3 u_fill_dir;
 uniform vec3 u_fill_color;
 uniform vec3 u_sky_color;
 uniform vec3 u_ground_color;
-uniform vec3 u_eye;
 uniform float u_specular;
 uniform float u_shininess;
-uniform int u_headlight;
 vec3 shade(vec3 base, vec3 n, vec3 world, float lit) {
     vec3 v = normalize(u_eye - world);
-    if (dot(n, v) < 0.0) n = -n;  // two-sided: inner faces of open meshes
-    if (u_headlight != 0) return base * (0.45 + 0.55 * dot(n, v));  // markers: lit from the eye
+    n = facing(n, v);
     vec3 ambient = mix(u_ground_color, u_sky_color, 0.5 + 0.5 * n.z);
     float key = max(dot(n, u_key_dir), 0.0) * lit;
     float fill = max(dot(n, u_fill_dir), 0.0);
@@ -99,13 +107,30 @@ in vec3 v_normal;
 in vec4 v_color;
 in vec4 v_light;
 uniform float u_alpha;
-uniform vec4 u_below_floor;
 out vec4 frag;
-""" + _SHADOW_GLSL + _LIGHT_GLSL + """
+""" + _SHADOW_GLSL + _SURFACE_GLSL + _LIGHT_GLSL + """
 void main() {
     vec3 color = shade(v_color.rgb, normalize(v_normal), v_world, lit_fraction(v_light));
-    if (v_world.z < 0.0) color = mix(color, u_below_floor.rgb, u_below_floor.a);  // under the floor
-    frag = vec4(color, v_color.a * u_alpha);
+    frag = vec4(under_floor(color, v_world), v_color.a * u_alpha);
+}
+"""
+
+# Markers (the overlay's axes, target and arrows): lit from the eye, no shadow, no
+# specular, so that they read in their colours from every side.  A program of their own:
+# llvmpipe runs both sides of a branch, so a switch in the lit shader would still pay
+# for its shadow taps and specular term on every marker fragment.
+_MARKER_FRAGMENT = """
+#version 330
+in vec3 v_world;
+in vec3 v_normal;
+in vec4 v_color;
+uniform float u_alpha;
+out vec4 frag;
+""" + _SURFACE_GLSL + """
+void main() {
+    vec3 v = normalize(u_eye - v_world);
+    vec3 n = facing(normalize(v_normal), v);
+    frag = vec4(under_floor(v_color.rgb * (0.45 + 0.55 * dot(n, v)), v_world), v_color.a * u_alpha);
 }
 """
 
@@ -201,6 +226,7 @@ void main() {
 
 SOURCES: dict[str, tuple[str, str]] = {
     "lit": (_LIT_VERTEX, _LIT_FRAGMENT),
+    "marker": (_LIT_VERTEX, _MARKER_FRAGMENT),
     "depth": (_DEPTH_VERTEX, _DEPTH_FRAGMENT),
     "unlit": (_UNLIT_VERTEX, _UNLIT_FRAGMENT),
     "shadow_patch": (_SHADOW_PATCH_VERTEX, _SHADOW_PATCH_FRAGMENT),

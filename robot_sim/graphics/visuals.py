@@ -9,6 +9,7 @@ Metres.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +35,18 @@ class VisualPiece:
     unit: str | None = None
     vertices: NDArray[np.float64] | None = None
     faces: NDArray[np.int64] | None = None
+
+    @functools.cached_property
+    def box(self) -> NDArray[np.float64]:
+        """Corners (8, 4) of the bounding box of the piece's own vertices (homogeneous,
+        in its ``local`` frame): the mesh's, or the unit mesh's."""
+        unit_box = np.array([[x, y, z, 1.0] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+        if self.vertices is not None:
+            lo, hi = self.vertices.min(axis=0), self.vertices.max(axis=0)
+            return np.c_[np.where(unit_box[:, :3] < 0, lo, hi), np.ones(8)]
+        if self.unit in ("joint", "cylinder"):
+            return unit_box * (1.0, 1.0, 0.5, 1.0) + (0.0, 0.0, 0.5, 0.0)
+        return unit_box * (0.5, 0.5, 0.5, 1.0) if self.unit == "box" else unit_box
 
 
 def mesh_buffers(piece: VisualPiece) -> StaticMesh:
@@ -96,16 +109,5 @@ def visual_pieces(robot: RobotParams) -> list[VisualPiece]:
 
 def piece_corners(pieces: list[VisualPiece], frames: NDArray[np.float64]) -> NDArray[np.float64]:
     """World corners (N, 3) of the bounding boxes of ``pieces`` at robot ``frames``."""
-    unit_box = np.array([[x, y, z, 1.0] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
-    out = []
-    for piece in pieces:
-        if piece.vertices is not None:
-            lo, hi = piece.vertices.min(axis=0), piece.vertices.max(axis=0)
-            corners = np.c_[np.where(unit_box[:, :3] < 0, lo, hi), np.ones(8)]
-        else:
-            corners = unit_box * (1.0, 1.0, 1.0, 1.0) if piece.unit != "box" else unit_box * (0.5, 0.5, 0.5, 1.0)
-            if piece.unit in ("joint", "cylinder"):
-                corners = unit_box * (1.0, 1.0, 0.5, 1.0) + (0.0, 0.0, 0.5, 0.0)
-        out.append((corners @ (frames[piece.frame] @ piece.local).T)[:, :3])
+    out = [(piece.box @ (frames[piece.frame] @ piece.local).T)[:, :3] for piece in pieces]
     return np.vstack(out) if out else np.zeros((0, 3))
-

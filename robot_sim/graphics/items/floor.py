@@ -3,7 +3,8 @@ edge, and the shadows of the robot and the task on it; translucent, so parts bel
 floor still show through it.
 
 The square and the grid are plain coloured triangles and lines (the fade is in their
-vertex colours); only a patch over where shadows can fall looks up the shadow map.
+vertex colours); only a patch over where shadows can fall (the light's footprint of the
+casters) looks up the shadow map.
 """
 from __future__ import annotations
 
@@ -21,6 +22,8 @@ from robot_sim.graphics.robot_parts import robot_reach
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 
 RGBA = tuple[float, float, float, float]
+#: Pixels added on every side of the shadow patch's scissor box (multisample positions).
+SHADOW_PATCH_MARGIN_PX = 2
 
 
 @dataclass(frozen=True)
@@ -108,9 +111,17 @@ class FloorItem(Item):
         program.set("u_view_proj", frame.view_proj).set("u_light_matrix", light.matrix)
         program.set("u_shadow_strength", theme.shadow_strength)
         frame.bind_shadow(program)
+        # the patch over all the shadow map sees, its fragments computed only over the
+        # casters' footprint: elsewhere every one would find the map clear and be discarded
+        box = frame.scissor_box(light.footprint, SHADOW_PATCH_MARGIN_PX)
+        if box is None:
+            return
+        GL.glEnable(GL.GL_SCISSOR_TEST)
+        GL.glScissor(*box)
         patch = _square(float(light.centre[0]), float(light.centre[1]), light.radius)
         n = frame.resources.stream.vertices(patch)
         GL.glDrawArrays(GL.GL_TRIANGLE_FAN, 0, n)
+        GL.glDisable(GL.GL_SCISSOR_TEST)
 
 
 ITEM = FloorItem

@@ -14,12 +14,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Frame
-from robot_sim.graphics.item import Item
+from robot_sim.graphics.item import Item, around
 from robot_sim.graphics.robot_parts import robot_look
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.kinematics import Kinematics
 
 AXIS_COLORS = (gd.AXIS_X_COLOR, gd.AXIS_Y_COLOR, gd.AXIS_Z_COLOR)
+#: Bounds of a frame: a cube of half side this many axis lengths about its origin.
+FRAME_BOUND_MARGIN = 1.25
 
 
 def stack_ranks(origins: NDArray[np.float64], tol: float) -> NDArray[np.int64]:
@@ -124,6 +126,11 @@ class FramesItem(Item):
         self.frames, self.names = frames_and_names(kin, options.show_frames, options.show_endeff_frame)
         self.length, self.labelled = robot_look(kin.robot).frame_length, options.show_labels
         self.visible = len(self.frames) > 0
+
+    def bounds(self) -> NDArray[np.float64]:
+        # an arrow of length L with its head stays within L of its origin; the margin
+        # covers the head's radius
+        return around(self.frames[:, :3, 3], FRAME_BOUND_MARGIN * axis_lengths(self.frames, self.length))
 
     def paint(self, frame: Frame) -> None:
         frame.lit(markers=True)

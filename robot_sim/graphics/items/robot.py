@@ -63,6 +63,7 @@ class RobotItem(Item):
         frame.lit(self.alpha)
         if self.wireframe:
             GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_LINE)
+            frame.culling = False  # a wireframe shows the edges of the back faces too
         for part in self.parts():
             frame.instances(part.mesh, part.placements, part.color)
         GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_FILL)

@@ -70,6 +70,7 @@ class RobotMeshItem(Item):
         frame.lit(self.alpha)
         if self.wireframe:
             GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_LINE)
+            frame.culling = False  # a wireframe shows the edges of the back faces too
         self._draw(frame)
         GL.glPolygonMode(GL.GL_FRONT_AND_BACK, GL.GL_FILL)
 

@@ -3,12 +3,13 @@ when it is out of reach; drawn over the scene."""
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Frame
 from robot_sim.graphics.gl import spheres
-from robot_sim.graphics.item import Item
-from robot_sim.graphics.items.frames import draw_axes
+from robot_sim.graphics.item import Item, around
+from robot_sim.graphics.items.frames import FRAME_BOUND_MARGIN, draw_axes
 from robot_sim.graphics.robot_parts import robot_reach
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 
@@ -29,6 +30,10 @@ class TargetItem(Item):
             assert scene.target_tf is not None
             self.pose, self.reachable = scene.target_tf.mat, scene.target_reachable
             self.reach = robot_reach(scene.kinematics.robot)
+
+    def bounds(self) -> NDArray[np.float64]:
+        half = FRAME_BOUND_MARGIN * self.reach * max(gd.TARGET_FRAME_LENGTH_FRAC, gd.TARGET_MARKER_RADIUS_FRAC)
+        return around(self.pose[:3, 3], half)
 
     def paint(self, frame: Frame) -> None:
         frame.lit(markers=True)

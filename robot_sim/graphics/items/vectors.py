@@ -2,10 +2,13 @@
 and the mouse pull spring; drawn over the scene."""
 from __future__ import annotations
 
+import numpy as np
+from numpy.typing import NDArray
+
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.arrows import arrow_placements
 from robot_sim.graphics.frame import Frame
-from robot_sim.graphics.item import Item
+from robot_sim.graphics.item import Item, around
 from robot_sim.graphics.robot_parts import robot_reach
 from robot_sim.graphics.scene import GraphicsOptions, Scene, Vector
 from robot_sim.graphics.vector_clip import shown_vectors
@@ -28,6 +31,10 @@ class VectorsItem(Item):
         self.vectors = list(scene.vectors) if options.show_vectors else []
         self.reach = robot_reach(scene.kinematics.robot)
         self.visible = bool(self.vectors)
+
+    def bounds(self) -> NDArray[np.float64]:
+        ends = np.array([end for origin, vec, _ in self.vectors for end in (origin, np.add(origin, vec))]).reshape(-1, 3)
+        return around(ends, self.reach * gd.VECTOR_HEAD_RADIUS_FRAC)
 
     def paint(self, frame: Frame) -> None:
         frame.lit(markers=True)
