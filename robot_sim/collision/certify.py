@@ -19,6 +19,10 @@ apart, so asking every row is the continuous check; this asks fewer:
   ends), or a row inside it is asked (the middle of what neither end's clearance
   covers), depth first from the left.
 
+A row asked inside a stretch (or a knot between two coarser ones) computes only the
+groups that the stretch's ends do not prove free; each of the others takes the lower
+bound its ends give there (:func:`_inherit`), which keeps both halves proven for it.
+
 Nothing proven free would be found colliding by asking every row.  Clearances are exact
 only up to the bound of one knot interval (a stretch being split: its own bound), and
 lower bounds beyond: any lower bound proves as soundly, a larger one only proves more.
@@ -60,16 +64,19 @@ def _lower_bound(kinds, recs, wc, br, i, j):
 
 @njit(**JIT)
 def clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group, padding, limit,
-                 F, recs, wc, out):
+                 known, F, recs, wc, out):
     """out[g] = signed distance minus ``padding`` of group g's closest pair at q (n,):
     exact below ``limit[g]``, else a lower bound of at least it (inf for a group without
-    pairs).  When a pair is closer than the padding, every column gets that
+    pairs); a group whose ``known[g]`` is not NaN takes that lower bound and its pairs are
+    not looked at.  When a pair is closer than the padding, every column gets that
     (negative) value and True is returned."""
     _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
     for g in range(out.shape[0]):
-        out[g] = math.inf
+        out[g] = math.inf if math.isnan(known[g]) else known[g]
     for p in range(pairs.shape[0]):
         g = group[p]
+        if not math.isnan(known[g]):
+            continue
         cutoff = min(out[g], limit[g]) + padding
         i, j = pairs[p, 0], pairs[p, 1]
         bound = _lower_bound(kinds, recs, wc, br, i, j)
@@ -84,6 +91,22 @@ def clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pai
                 out[h] = d
             return True
     return False
+
+
+@njit(**JIT)
+def _inherit(da, db, ca, cb, cm, known):
+    """For a row between rows a and b with clearances da, db and closings ca, cm, cb: each
+    group that the stretch's ends already prove free gets the lower bound its ends give at
+    the row, max(da - (cm - ca), db - (cb - cm)) (positive, and it keeps both halves
+    proven); the others NaN (to be computed).  Returns whether any is to be computed."""
+    todo = False
+    for g in range(da.shape[0]):
+        if da[g] + db[g] > cb[g] - ca[g]:
+            known[g] = max(da[g] - (cm[g] - ca[g]), db[g] - (cb[g] - cm[g]))
+        else:
+            known[g] = math.nan
+            todo = True
+    return todo
 
 
 @njit(**JIT)
@@ -128,7 +151,7 @@ def _split(a, b, da, db, ca, cb):
     reach_a, reach_b = b - a, b - a  # rows past a (before b) that each end keeps free
     for g in range(da.shape[0]):
         rate = (cb[g] - ca[g]) / (b - a)
-        if rate > 0.0:
+        if rate > 0.0 and not (da[g] + db[g] > cb[g] - ca[g]):  # a group proven on the stretch stays so
             reach_a = min(reach_a, max(da[g], 0.0) / rate)
             reach_b = min(reach_b, max(db[g], 0.0) / rate)
     m = int(0.5 * ((a + reach_a) + (b - reach_b)))
@@ -154,7 +177,7 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
         _row(P, Mc, H, C, rs, krow[i], kq[i], kc[i])
     state = np.zeros(nk, dtype=np.int64)  # ASKED, or COVERED: inside a stretch proven free
     first, count = R + 1, 0  # rows from `first` on are not asked
-    cap = np.empty(G)
+    cap, known = np.empty(G), np.empty(G)
     # the knots, coarse to fine: both ends, then every span-th knot for span = 2^p, ..., 1,
     # each only if the stretch between its two neighbours one span away is not proven free
     top_span = 1
@@ -168,9 +191,11 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
             if state[idx] != 0 or krow[idx] >= first:
                 continue
             lo, hi = max(idx - span, 0), min(idx + span, nk - 1)
+            known[:] = math.nan
             if span < top_span:
                 if state[lo] == COVERED or state[hi] == COVERED or (
-                        state[lo] == ASKED and state[hi] == ASKED and _proven(kd[lo], kd[hi], kc[lo], kc[hi])):
+                        state[lo] == ASKED and state[hi] == ASKED
+                        and not _inherit(kd[lo], kd[hi], kc[lo], kc[hi], kc[idx], known)):
                     state[idx] = COVERED
                     continue
             else:
@@ -180,13 +205,18 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
             state[idx] = ASKED
             count += 1
             if clearance_at(kq[idx], dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group,
-                            padding, cap, F, recs, wc, kd[idx]):
+                            padding, cap, known, F, recs, wc, kd[idx]):
                 if not first_only:
                     return krow[idx], count
                 first = min(first, krow[idx])
-    # the stretches between consecutive asked knots, depth first from the left
-    buf_d, buf_c = np.empty((stride + 2, G)), np.empty((stride + 2, G))
-    stack = np.empty((stride + 2, 4), dtype=np.int64)  # rows a, b and their slots in buf
+    # the stretches between consecutive asked knots, depth first from the left; a stretch
+    # asks at most its rows inside, each taking one slot and adding at most one to the stack
+    widest, prev = 1, 0
+    for i in range(1, nk):
+        if state[i] == ASKED:
+            widest, prev = max(widest, krow[i] - krow[prev]), i
+    buf_d, buf_c = np.empty((widest + 2, G)), np.empty((widest + 2, G))
+    stack = np.empty((widest + 2, 4), dtype=np.int64)  # rows a, b and their slots in buf
     q = np.empty(n)
     prev = 0
     for i in range(1, nk):
@@ -205,11 +235,12 @@ def _first_hit(P, Mc, H, steps, C, stride, first_only, dh, modified, world0, lin
             m, sm = _split(a, b, buf_d[sa], buf_d[sb], buf_c[sa], buf_c[sb]), slots
             slots += 1
             _row(P, Mc, H, C, rs, m, q, buf_c[sm])
+            _inherit(buf_d[sa], buf_d[sb], buf_c[sa], buf_c[sb], buf_c[sm], known)
             for g in range(G):
                 cap[g] = buf_c[sb, g] - buf_c[sa, g]
             count += 1
             if clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group,
-                            padding, cap, F, recs, wc, buf_d[sm]):
+                            padding, cap, known, F, recs, wc, buf_d[sm]):
                 if not first_only:
                     return m, count
                 first = min(first, m)
@@ -244,6 +275,7 @@ def clearance_batch(Q, dh, modified, world0, link, local, recs0, kinds, bc, br, 
                     out):
     """out[k] = :func:`clearance_at` of Q[k] for every row of Q (N, n)."""
     F, recs, wc = _workspace(dh, link, recs0, bc)
+    known = np.full(out.shape[1], math.nan)
     for k in range(Q.shape[0]):
         clearance_at(Q[k], dh, modified, world0, link, local, recs0, kinds, bc, br, pairs, verts, group, padding,
-                     limit, F, recs, wc, out[k])
+                     limit, known, F, recs, wc, out[k])
