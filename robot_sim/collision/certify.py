@@ -94,6 +94,13 @@ def clearance_at(q, dh, modified, world0, link, local, recs0, kinds, bc, br, pai
 
 
 @njit(**JIT)
+def _holds(da, db, ca, cb, g):
+    """Whether group g's clearances da, db at two rows prove the stretch between them free
+    (their sum exceeds the bound cb - ca on how much the group can close over it)."""
+    return da[g] + db[g] > cb[g] - ca[g]
+
+
+@njit(**JIT)
 def _inherit(da, db, ca, cb, cm, known):
     """For a row between rows a and b with clearances da, db and closings ca, cm, cb: each
     group that the stretch's ends already prove free gets the lower bound its ends give at
@@ -101,7 +108,7 @@ def _inherit(da, db, ca, cb, cm, known):
     proven); the others NaN (to be computed).  Returns whether any is to be computed."""
     todo = False
     for g in range(da.shape[0]):
-        if da[g] + db[g] > cb[g] - ca[g]:
+        if _holds(da, db, ca, cb, g):
             known[g] = max(da[g] - (cm[g] - ca[g]), db[g] - (cb[g] - cm[g]))
         else:
             known[g] = math.nan
@@ -138,7 +145,7 @@ def _row(P, Mc, H, C, rs, r, q, c):
 def _proven(da, db, ca, cb):
     """Whether the stretch between rows with clearances da, db and closings ca, cb is free."""
     for g in range(da.shape[0]):
-        if not (da[g] + db[g] > cb[g] - ca[g]):
+        if not _holds(da, db, ca, cb, g):
             return False
     return True
 
@@ -151,7 +158,7 @@ def _split(a, b, da, db, ca, cb):
     reach_a, reach_b = b - a, b - a  # rows past a (before b) that each end keeps free
     for g in range(da.shape[0]):
         rate = (cb[g] - ca[g]) / (b - a)
-        if rate > 0.0 and not (da[g] + db[g] > cb[g] - ca[g]):  # a group proven on the stretch stays so
+        if rate > 0.0 and not _holds(da, db, ca, cb, g):  # a group proven on the stretch stays so
             reach_a = min(reach_a, max(da[g], 0.0) / rate)
             reach_b = min(reach_b, max(db[g], 0.0) / rate)
     m = int(0.5 * ((a + reach_a) + (b - reach_b)))

@@ -93,8 +93,8 @@ class PairGroups:
         n = checkers[0].robot.n_dofs
         bounds = (np.asarray(lo, dtype=float)[None], np.asarray(hi, dtype=float)[None])
         arms = np.max([link_lever_arms(c, *bounds)[0] for c in checkers], axis=0)  # (n + 1, n)
-        unique, self._group = np.unique(keys, axis=0, return_inverse=True)
-        self._group = np.ascontiguousarray(self._group.reshape(-1), dtype=np.int64)
+        unique, group = np.unique(keys, axis=0, return_inverse=True)
+        self._group = np.ascontiguousarray(group.reshape(-1), dtype=np.int64)
         #: (G, n): a group's clearance shrinks by at most |dq| @ bound[g] over a step dq.
         self.bound = np.array([np.where(np.arange(n) >= max(i, 0), arms[j], 0.0) for i, j in unique]).reshape(-1, n)
 

@@ -9,8 +9,8 @@ forms where there is one and to GJK/EPA otherwise:
 * anything with a half-space: exact, from the shape's support point;
 * box with box: GJK (exact for polytopes) apart, separating axes (exact) in overlap;
 * the rest (capsule, box, cylinder or convex with cylinder or convex): GJK apart, EPA
-  in overlap; a capsule farther than the cutoff from the capsule around a cylinder is
-  answered by that lower bound (exact for polytopes, to ``gjk.EPA_TOL`` for curved ones).
+  in overlap (exact for polytopes, to ``gjk.EPA_TOL`` for curved ones); a capsule farther
+  than the cutoff from the capsule around a cylinder is answered by that lower bound.
 
 Returns ``(d, a, b, n)`` as :mod:`.closest` does: signed distance in metres (negative:
 penetration depth), world witness points on each shape and the unit normal from the

@@ -19,14 +19,14 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from robot_sim.graphics.meshes import CUBE_CORNERS
+
 if TYPE_CHECKING:
     from robot_sim.graphics.frame import Drawing, Frame
     from robot_sim.graphics.scene import GraphicsOptions, Scene
 
 LAYERS = ("opaque", "translucent", "overlay", "text")
 
-#: Corners of the cube of half side 1 about the origin (8, 3).
-_CUBE = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
 
 
 def around(centres: NDArray[np.float64], half: NDArray[np.float64] | float) -> NDArray[np.float64]:
@@ -34,7 +34,7 @@ def around(centres: NDArray[np.float64], half: NDArray[np.float64] | float) -> N
     world ``centres`` (N, 3): their hull encloses a ball of radius ``half`` about each."""
     centres = np.asarray(centres, dtype=float).reshape(-1, 1, 3)
     halves = np.broadcast_to(np.asarray(half, dtype=float).reshape(-1), (len(centres),))
-    return (centres + halves[:, None, None] * _CUBE).reshape(-1, 3)
+    return (centres + halves[:, None, None] * CUBE_CORNERS).reshape(-1, 3)
 
 
 class Item:

@@ -12,6 +12,9 @@ from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 
+#: Corners (8, 3) of the cube of half side 1 about the origin.
+CUBE_CORNERS = np.array([[x, y, z] for x in (-1.0, 1.0) for y in (-1.0, 1.0) for z in (-1.0, 1.0)])
+
 Z_AXIS = np.array([0.0, 0.0, 1.0])
 
 

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.buffers import StaticMesh
+from robot_sim.graphics.meshes import CUBE_CORNERS
 from robot_sim.model.params import RobotParams
 from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Sphere
 
@@ -40,7 +41,7 @@ class VisualPiece:
     def box(self) -> NDArray[np.float64]:
         """Corners (8, 4) of the bounding box of the piece's own vertices (homogeneous,
         in its ``local`` frame): the mesh's, or the unit mesh's."""
-        unit_box = np.array([[x, y, z, 1.0] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+        unit_box = np.c_[CUBE_CORNERS, np.ones(8)]
         if self.vertices is not None:
             lo, hi = self.vertices.min(axis=0), self.vertices.max(axis=0)
             return np.c_[np.where(unit_box[:, :3] < 0, lo, hi), np.ones(8)]

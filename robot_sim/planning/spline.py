@@ -39,6 +39,19 @@ def _second_derivatives(s: FloatArray, Y: FloatArray) -> FloatArray:
     return np.linalg.solve(A, rhs)
 
 
+def _value(h: FloatArray, a: FloatArray, b: FloatArray, m0: FloatArray, m1: FloatArray, y0: FloatArray,
+           y1: FloatArray) -> FloatArray:
+    """q on a knot span of length h, a and b from its two ends (a + b = h), with
+    curvatures m0, m1 and waypoints y0, y1 at its ends (arrays that broadcast)."""
+    return (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
+
+
+def _slope(h: FloatArray, a: FloatArray, b: FloatArray, m0: FloatArray, m1: FloatArray, y0: FloatArray,
+           y1: FloatArray) -> FloatArray:
+    """dq/ds there (as :func:`_value`)."""
+    return (-m0 * a**2 + m1 * b**2) / (2 * h) + (y1 - y0) / h - (m1 - m0) * h / 6
+
+
 @dataclass(frozen=True, eq=False)
 class JointSpline:
     """Not-a-knot cubic spline through joint waypoints, by chord length.
@@ -88,40 +101,28 @@ class JointSpline:
         """q(s) (M, n) at path parameters ``s`` (M,), clamped to [0, length]."""
         if self.waypoints.shape[0] == 1:
             return np.zeros((np.size(s), self.waypoints.shape[1])) + self.waypoints[0]
-        h, a, b, m0, m1, y0, y1 = self._pieces(s)
-        return (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
+        return _value(*self._pieces(s))
 
     def evaluate(self, s: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
         """q(s), dq/ds and d²q/ds² at path parameters ``s`` (M,) → three (M, n) arrays;
         ``s`` is clamped to [0, length]."""
-        q = self.positions(s)
         if self.waypoints.shape[0] == 1:
+            q = self.positions(s)
             return q, np.zeros_like(q), np.zeros_like(q)
-        h, a, b, m0, m1, y0, y1 = self._pieces(s)
-        dq = (-m0 * a**2 + m1 * b**2) / (2 * h) + (y1 - y0) / h - (m1 - m0) * h / 6
-        ddq = (m0 * a + m1 * b) / h
-        return q, dq, ddq
+        pieces = self._pieces(s)
+        h, a, b, m0, m1, _, _ = pieces
+        return _value(*pieces), _slope(*pieces), (m0 * a + m1 * b) / h
 
-    def samples(self, spacing: float) -> FloatArray:
-        """Path parameters from 0 to ``length``, the knots included, at most ``spacing`` apart."""
-        parts = [self.knots[:1]]
-        for s0, s1 in zip(self.knots[:-1], self.knots[1:]):
-            m = max(1, int(np.ceil((s1 - s0) / spacing - 1e-12)))
-            parts.append(np.linspace(s0, s1, m + 1)[1:])
-        return np.concatenate(parts)
+    def _span_points(self, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """q and dq/ds (K - 1, n) at offsets ``b`` (K - 1, n) into each span, per joint."""
+        h, m0, m1, y0, y1 = self._spans()
+        pieces = (h, h - b, b, m0, m1, y0, y1)
+        return _value(*pieces), _slope(*pieces)
 
     def _spans(self) -> tuple[FloatArray, ...]:
         """Per knot span (K - 1, 1 or n): its length h, curvatures m0, m1 and waypoints y0, y1."""
         t, P, M = self.knots, self.waypoints, self.curvature
         return np.diff(t)[:, None], M[:-1], M[1:], P[:-1], P[1:]
-
-    def _span_points(self, b: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """q and dq/ds (K - 1, n) at offsets ``b`` (K - 1, n) into each span, per joint."""
-        h, m0, m1, y0, y1 = self._spans()
-        a = h - b
-        q = (m0 * a**3 + m1 * b**3) / (6 * h) + (y0 / h - m0 * h / 6) * a + (y1 / h - m1 * h / 6) * b
-        dq = (-m0 * a**2 + m1 * b**2) / (2 * h) + (y1 - y0) / h - (m1 - m0) * h / 6
-        return q, dq
 
     def span_speed(self) -> FloatArray:
         """(K - 1, n): the largest |dq/ds| of each joint over each knot span (exact: at the
