@@ -1,5 +1,8 @@
-"""Command line of robot-sim, run as a subprocess: bad input gives one stderr line and
-exit status 2; --screenshot renders offscreen (OSMesa, no display, no Qt); --list-robots."""
+"""Command line of robot-sim: bad input gives one stderr line and exit status 2;
+--screenshot renders offscreen (OSMesa, no display, no Qt); --list-robots.
+
+``run`` calls the program's ``main`` in this process; the tests that need a real process
+(an exit status seen from outside, a clean interpreter, a closed pipe) start one."""
 from __future__ import annotations
 
 import os
@@ -17,6 +20,7 @@ from cli_helpers import (  # noqa: F401 - fixtures and helpers
     ROOT,
     SIMULATOR,
     run,
+    run_process,
     read_png,
     assert_one_line_error,
 )
@@ -75,8 +79,15 @@ def test_missing_osmesa_names_the_package(tmp_path: Path) -> None:
     # a sitecustomize that makes `from OpenGL import osmesa` fail, as without libOSMesa
     (tmp_path / "sitecustomize.py").write_text("import sys\nsys.modules['OpenGL.osmesa'] = None\n")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
-    result = run("--screenshot", str(tmp_path / "x.png"), env=env)
+    result = run_process("--screenshot", str(tmp_path / "x.png"), env=env)  # a fresh interpreter
     assert_one_line_error(result, "offscreen rendering failed", "libosmesa6")
+
+
+def test_bad_input_from_a_real_process(tmp_path: Path) -> None:
+    """What a shell sees: exit status 2 and one line on stderr, no traceback, nothing written."""
+    out = tmp_path / "never.png"
+    assert_one_line_error(run_process("--robot", "nosuch", "--screenshot", str(out)), "unknown robot 'nosuch'")
+    assert not out.exists()
 
 
 def test_list_robots() -> None:

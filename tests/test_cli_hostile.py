@@ -1,5 +1,6 @@
 """Command line against hostile paths and sizes: one ``robot-sim: error:`` line, exit
-status 2, and no file left behind (not even a partial one)."""
+status 2, and no file left behind (not even a partial one).  ``run`` calls the program in
+this process, with a time limit (a FIFO must not make it hang)."""
 from __future__ import annotations
 
 import contextlib
@@ -7,7 +8,6 @@ import io
 import os
 import re
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
@@ -17,14 +17,7 @@ from robot_sim.kinematics import max_workspace_samples
 from robot_sim.io.robot_file import ROBOTS_DIR, load_robot
 from unprivileged import call_unprivileged
 
-ROOT = Path(__file__).resolve().parents[1]
-SIMULATOR = ROOT / "simulator.py"
-
-
-def run(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
-    return subprocess.run(
-        [sys.executable, str(SIMULATOR), *args], capture_output=True, text=True, timeout=timeout, cwd=ROOT
-    )
+from cli_helpers import run
 
 
 def one_line_error(result: subprocess.CompletedProcess[str] | tuple[int, str]) -> str:
