@@ -7,16 +7,24 @@ runs as a program there.  Commands that open the window are never marked runnabl
 and every other documented ``robot-sim`` command's options are parsed by the program's own
 parser, and a shipped robot they name must exist.  Failures name the page, the line and the
 command.
+
+To keep the suite fast, a plain ``.venv/bin/robot-sim ARGS`` line runs as the program's
+``main(ARGS)`` in this process (``cli_helpers.run``: in that directory, with that
+environment, output captured) and a Python block is executed in a fresh namespace there;
+a line that needs the shell (pipes, redirections, variables) goes to ``bash``, and a block
+that needs its own interpreter (see ``needs_own_interpreter``) to ``python``.
 """
 from __future__ import annotations
 
 import os
+import shlex
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
+from cli_helpers import program_context, run, time_limit
 from doc_blocks import ROOT, Block, Command, all_commands, blocks
 
 RUNNABLE = blocks("sh", runnable=True)
@@ -42,6 +50,39 @@ def workdir(tmp: Path) -> Path:
     (tmp / ".venv").symlink_to(sys.prefix, target_is_directory=True)
     (tmp / "docs").mkdir()
     return tmp
+
+
+#: Words of a Python block after which it runs in its own interpreter: it starts processes,
+#: changes the environment of the process, or loads Qt or a GL platform of its own.
+OWN_INTERPRETER = ("os.environ", "putenv", "subprocess", "multiprocessing", "workers=", "client=",
+                   "PyQt5", "OpenGL", "Visualizer", "rs.show(", "faulthandler", "signal")
+
+
+def needs_own_interpreter(block: Block) -> bool:
+    """Whether a Python block must run as a separate program rather than in the test process."""
+    return any(word in block.text for word in OWN_INTERPRETER)
+
+
+def in_process_args(command: Command) -> list[str] | None:
+    """The arguments of a plain ``.venv/bin/robot-sim ARGS`` line (no pipe, redirection,
+    variable or second command), which the test runs in its own process; else None."""
+    lexer = shlex.shlex(command.text, posix=True, punctuation_chars=True)
+    lexer.commenters = "#"
+    words = list(lexer)
+    if words[:1] != [".venv/bin/robot-sim"] or any(c in command.text for c in "$`*?~"):
+        return None
+    if any(word and all(c in lexer.punctuation_chars for c in word) for word in words):
+        return None
+    return command.words[1:]
+
+
+def run_command(command: Command, cwd: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    """One line of a runnable block, in ``cwd`` with ``env``: in this process where it can."""
+    args = in_process_args(command)
+    if args is not None:
+        return run(*args, env=env, cwd=cwd, timeout=TIMEOUT)
+    return subprocess.run(["bash", "-c", command.text], cwd=cwd, env=env, capture_output=True,
+                          text=True, timeout=TIMEOUT)
 
 
 def failure(command: Command, result: subprocess.CompletedProcess[str]) -> str:
@@ -81,8 +122,7 @@ def test_runnable_commands_run_as_written(block: Block, tmp_path: Path) -> None:
     commands = block.commands()
     assert commands, f"{block.name}: an empty runnable block"
     for command in commands:
-        result = subprocess.run(["bash", "-c", command.text], cwd=cwd, env=env, capture_output=True,
-                                text=True, timeout=TIMEOUT)
+        result = run_command(command, cwd, env)
         assert result.returncode == 0, failure(command, result)
         assert "Traceback" not in result.stderr and "error:" not in result.stderr, failure(command, result)
         check_outputs(command, cwd)
@@ -91,10 +131,27 @@ def test_runnable_commands_run_as_written(block: Block, tmp_path: Path) -> None:
 @pytest.mark.parametrize("block", params(PYTHON))
 def test_python_blocks_run(block: Block, tmp_path: Path) -> None:
     program = workdir(tmp_path) / "example.py"
-    program.write_text(block.text, encoding="utf-8")
-    result = subprocess.run([sys.executable, str(program)], cwd=tmp_path, env=environment(),
-                            capture_output=True, text=True, timeout=TIMEOUT)
-    assert result.returncode == 0, f"{block.name}: the python block failed\n{result.stderr[-3000:]}"
+    if needs_own_interpreter(block):
+        program.write_text(block.text, encoding="utf-8")
+        result = subprocess.run([sys.executable, str(program)], cwd=tmp_path, env=environment(),
+                                capture_output=True, text=True, timeout=TIMEOUT)
+        assert result.returncode == 0, f"{block.name}: the python block failed\n{result.stderr[-3000:]}"
+        return
+    code = compile(block.text, f"{block.name} (python block)", "exec")
+    with program_context(environment(), tmp_path), time_limit(TIMEOUT, block.name):
+        exec(code, {"__name__": "__main__", "__file__": str(program)})  # a traceback names page and line
+
+
+def test_in_process_runs_only_plain_robot_sim_lines() -> None:
+    def args(text: str) -> list[str] | None:
+        return in_process_args(Command(ROOT / "README.md", 1, text))
+
+    assert args(".venv/bin/robot-sim --robot ur5 --print-dh   # a comment") == ["--robot", "ur5", "--print-dh"]
+    assert args(".venv/bin/robot-sim --q=-30,45 --screenshot 'a b.png'") == ["--q=-30,45", "--screenshot", "a b.png"]
+    for shell in (".venv/bin/robot-sim --list-robots | head -3", ".venv/bin/robot-sim --print-dh > dh.txt",
+                  ".venv/bin/robot-sim --help && ls", "COLUMNS=100 .venv/bin/robot-sim --help",
+                  ".venv/bin/robot-sim --robot $HOME/arm.toml", "make run ARGS='--robot ur5'"):
+        assert args(shell) is None, shell
 
 
 def parse_robot_sim(args: list[str]) -> None:

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import re
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
+from cli_helpers import run
 from doc_blocks import PAGES, ROOT, blocks
 
 README = ROOT / "README.md"
@@ -48,8 +48,7 @@ def test_links_resolve(page: Path) -> None:
 def test_the_command_line_page_shows_the_help_as_it_is() -> None:
     """docs/command-line.md holds `robot-sim --help` as printed at 100 columns (compared
     with runs of spaces folded, so Python versions that wrap differently agree)."""
-    help_text = subprocess.run([sys.executable, str(ROOT / "simulator.py"), "--help"], capture_output=True,
-                               text=True, env={"COLUMNS": "100", "PATH": "/usr/bin:/bin"}, cwd=ROOT).stdout
+    help_text = run("--help", env={"COLUMNS": "100", "PATH": "/usr/bin:/bin"}).stdout
     page = (ROOT / "docs" / "command-line.md").read_text(encoding="utf-8")
     shown = re.search(r"```text\n(.*?)```", page, re.S).group(1)
 

@@ -8,16 +8,15 @@ folder the checkout lives in.  tests/test_docs_commands.py checks that no docume
 command uses an absolute path."""
 from __future__ import annotations
 
-import os
 import shlex
 import struct
-import subprocess
 import sys
 import zlib
 from pathlib import Path
 
 import pytest
 
+from cli_helpers import run
 from doc_blocks import ROOT
 
 sys.path.insert(0, str(ROOT / "docs"))
@@ -93,9 +92,7 @@ def test_every_documented_picture_exists() -> None:
 
 def test_a_screenshot_records_its_command_as_given(tmp_path: Path) -> None:
     args = ["--robot", "planar3", "--q", "30,30,30", "--size", "64x48", "--screenshot", "small.png"]
-    env = dict(os.environ, PYTHONPATH=str(ROOT), PYOPENGL_PLATFORM="osmesa")
-    result = subprocess.run([sys.executable, str(ROOT / "simulator.py"), *args], cwd=tmp_path, env=env,
-                            capture_output=True, text=True, timeout=300)
+    result = run(*args, cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     texts = png_texts(tmp_path / "small.png")
     assert texts == {"Software": "robot-sim", "Source": shlex.join(["robot-sim", *args])}
@@ -106,10 +103,8 @@ def test_a_screenshot_records_its_command_as_given(tmp_path: Path) -> None:
 def test_make_pictures_renders_every_docs_picture_again(tmp_path: Path) -> None:
     """Each documented picture command, run in a fresh folder, makes a picture of the size
     of the one in docs/ (the pixels differ with the GL driver; the command is what is kept)."""
-    env = dict(os.environ, PYTHONPATH=str(ROOT), PYOPENGL_PLATFORM="osmesa")
     (tmp_path / "docs").mkdir()
     for target, args in documented_picture_commands().items():
-        result = subprocess.run([sys.executable, str(ROOT / "simulator.py"), *args], cwd=tmp_path, env=env,
-                                capture_output=True, text=True, timeout=300)
+        result = run(*args, cwd=tmp_path)
         assert result.returncode == 0, f"{target}: {shlex.join(args)}\n{result.stderr}"
         assert png_size(tmp_path / target) == png_size(ROOT / target), target

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from cli_helpers import run
 from geometry_helpers import file_vertices, odd_mesh, shape_world, urdf_visual_world, write_mesh
 from kin_helpers import CONVENTIONS
 from robot_sim.io.meshes import MeshSkippedWarning
@@ -307,13 +308,13 @@ def test_skip_missing_meshes_warns_once_per_file_and_keeps_the_rest(tmp_path):
 def test_the_command_line_reports_a_missing_mesh_or_skips_it(tmp_path):
     urdf = tmp_path / "arm.urdf"
     urdf.write_text(_one_link_urdf('<mesh filename="gone.stl"/>'))
-    run = [sys.executable, str(ROOT / "simulator.py"), "--robot", str(urdf), "--print-dh"]
-    failed = subprocess.run(run, capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    args = ["--robot", str(urdf), "--print-dh"]
+    failed = run(*args, cwd=tmp_path)
     assert failed.returncode == 2 and failed.stdout == ""
     assert failed.stderr.strip().splitlines() == [
         f"robot-sim: error: {urdf}: link 'arm' visual 1 mesh 'gone.stl': {tmp_path / 'gone.stl'}: mesh file not found"
     ]
-    skipped = subprocess.run([*run, "--skip-missing-meshes"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    skipped = run(*args, "--skip-missing-meshes", cwd=tmp_path)
     assert skipped.returncode == 0, skipped.stderr
     assert skipped.stderr.strip().splitlines() == [
         f"robot-sim: warning: {urdf}: link 'arm' visual 1 mesh 'gone.stl': {tmp_path / 'gone.stl'}: "

@@ -6,9 +6,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,7 +16,7 @@ from robot_sim.control.controllers import ComputedTorque, control_gains
 from robot_sim.control.simulation import Simulation
 from robot_sim.io.robot_file import load_robot
 
-ROOT = Path(__file__).resolve().parents[1]
+from cli_helpers import run
 
 
 def _critical_settling(omega: float) -> float:
@@ -124,12 +121,12 @@ def test_bad_sweeps_are_refused_naming_the_culprit():
 
 def test_command_line_sweep_writes_csv(tmp_path):
     out = tmp_path / "sweep.csv"
-    cmd = [sys.executable, str(ROOT / "simulator.py"), "sweep", "--robot", "ur5", "--motion", "ct",
-           "--kp", "100:1000:4", "--duration", "0.05", "--workers", "1", "--out", str(out)]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    args = ["sweep", "--robot", "ur5", "--motion", "ct",
+            "--kp", "100:1000:4", "--duration", "0.05", "--workers", "1", "--out", str(out)]
+    done = run(*args)
     assert done.returncode == 0, done.stderr
     assert "wrote 4 runs" in done.stdout and "4/4 runs" in done.stderr
     rows = out.read_text().splitlines()
     assert [float(r.split(",")[0]) for r in rows[1:]] == [100.0, 400.0, 700.0, 1000.0]
-    bad = subprocess.run(cmd[:8] + ["100:1000"] + cmd[9:], capture_output=True, text=True, timeout=300)
+    bad = run(*args[:6], "100:1000", *args[7:])
     assert bad.returncode == 2 and bad.stderr.startswith("robot-sim sweep: error: --kp '100:1000'")
