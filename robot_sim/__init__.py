@@ -1,11 +1,20 @@
 """robot_sim: a simulator for fixed-base manipulators described by DH parameters or URDF.
 
 ``import robot_sim as rs`` is the flat public API; names are imported on first use, so
-``import robot_sim`` itself loads nothing heavy (and never Qt or OpenGL)::
+``import robot_sim`` itself loads nothing heavy (and never Qt or OpenGL):
 
-    import robot_sim as rs
-    robot = rs.load_robot("puma560")
-    T = rs.forward_kinematics(robot, robot.q_home)[-1]
+>>> import robot_sim as rs
+>>> robot = rs.load_robot("puma560")
+>>> T = rs.forward_kinematics(robot, robot.q_home)  # the tool's pose in the world, 4x4
+>>> T[:3, 3].round(3)  # its position [m]
+array([ 0.737, -0.15 ,  0.957])
+>>> frames = rs.forward_kinematics(robot, robot.q_home, all_frames=True)
+>>> frames.shape  # frames 0..6, then the tool
+(8, 4, 4)
+>>> bool((frames[-1] == T).all())
+True
+
+(``tests/test_doctests.py`` runs these examples.)
 
 The subpackages are the architecture (see docs/layout.md): ``model``, ``io``,
 ``kinematics``, ``dynamics``, ``control``, ``planning``, ``graphics``, ``viewer``, ``qt``, ``app``.
