@@ -23,9 +23,8 @@ from typing import Iterator
 
 import numpy as np
 
+from paths import ROOT, SIMULATOR
 
-ROOT = Path(__file__).resolve().parents[1]
-SIMULATOR = ROOT / "simulator.py"
 #: Variables that would let the program open a window.
 DISPLAY_VARIABLES = ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM")
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from paths import ROOT
 from urdf_helpers import origin_matrix, urdf_fk
 
 
@@ -56,7 +57,7 @@ def shape_world(frame: np.ndarray, shape) -> np.ndarray:
 def boxed_arm(folder: Path) -> Path:
     """The shipped planar3 robot file with a red box visual on link 2, written to
     ``folder`` (a robot that has a mesh look, without any mesh file)."""
-    text = (Path(__file__).resolve().parents[1] / "robots" / "planar3.toml").read_text()
+    text = (ROOT / "robots" / "planar3.toml").read_text()
     third = text.index("[[joints]]", text.index("[[joints]]", text.index("[[joints]]") + 1) + 1)
     box = '\n[[joints.visual]]\nbox = [0.4, 0.12, 0.12]\nxyz = [-0.2, 0.0, 0.0]\ncolor = [0.9, 0.1, 0.1, 1.0]\n\n'
     path = folder / "boxed.toml"

@@ -4,11 +4,11 @@ their errors as one line with exit status 2."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from paths import DATA
 from robot_sim.app.robot_cmds import dh_table_text, export
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_q, robot
 from robot_sim.kinematics import forward_kinematics
@@ -16,7 +16,6 @@ from robot_sim.io.robot_file import load_robot
 from cli_helpers import assert_one_line_error, run
 from urdf_helpers import parse, urdf_fk
 
-DATA = Path(__file__).parent / "data"
 
 
 def dh_rows(text: str, convention: str) -> np.ndarray:

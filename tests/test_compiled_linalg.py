@@ -4,14 +4,13 @@ compiled OSC's own eigenvalue routine equals LAPACK's."""
 from __future__ import annotations
 
 import ast
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from paths import PACKAGE
 from robot_sim.control.task_space_compiled import _smallest_eigenvalue
 
-PACKAGE = Path(__file__).resolve().parent.parent / "robot_sim"
 
 
 def linalg_calls_in_compiled_functions(source: str) -> list[str]:

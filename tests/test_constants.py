@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import ast
 from collections import Counter
-from pathlib import Path
 
-PACKAGE = Path(__file__).resolve().parent.parent / "robot_sim"
+from paths import PACKAGE
+
 
 
 def rebound_constants(source: str) -> list[str]:

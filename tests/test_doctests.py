@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import doctest
 import importlib
-from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "robot_sim"
+from paths import PACKAGE
+
 
 
 def modules_with_examples() -> list[str]:

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 import trimesh
 
+from paths import DATA, ROOT
 from cli_helpers import run
 from geometry_helpers import file_vertices, odd_mesh, shape_world, urdf_visual_world, write_mesh
 from kin_helpers import CONVENTIONS
@@ -25,7 +26,6 @@ from robot_sim.model.params import RobotDefinitionError
 from robot_sim.model.shapes import Box, Cylinder, Mesh, Sphere
 from urdf_helpers import parse
 
-ROOT = Path(__file__).resolve().parent.parent
 PKG = "meshy_description"
 
 URDF = """<?xml version="1.0"?>
@@ -326,6 +326,6 @@ def test_the_command_line_reports_a_missing_mesh_or_skips_it(tmp_path):
 def test_robots_without_meshes_never_import_trimesh():
     code = ("import sys; from robot_sim.io.robot_file import load_robot; load_robot('puma560'); "
             "load_robot(sys.argv[1]); print('trimesh' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code, str(ROOT / "tests" / "data" / "fixed_mid.urdf")],
+    out = subprocess.run([sys.executable, "-c", code, str(DATA / "fixed_mid.urdf")],
                          capture_output=True, text=True, cwd=ROOT, timeout=60)
     assert out.stdout.strip() == "False", out.stderr

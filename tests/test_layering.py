@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parent.parent / "robot_sim"
+from paths import PACKAGE
+
 
 #: Layer -> the layers of ours it may import (besides itself).  Layers are the first
 #: component under robot_sim (a subpackage, or a top-level module such as kinematics).

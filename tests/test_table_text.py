@@ -8,7 +8,8 @@ import re
 import numpy as np
 import pytest
 
-from cli_helpers import ROOT, run
+from paths import DATA
+from cli_helpers import run
 from robot_sim.io.robot_file import load_robot
 from robot_sim.model.table_text import number, snap
 
@@ -62,7 +63,7 @@ def test_print_shows_the_dh_table(name: str, capsys: pytest.CaptureFixture[str])
     assert repr(robot) == f"<RobotParams {robot.name!r}: {robot.n_dofs} joints, {robot.convention} DH>"
 
 
-@pytest.mark.parametrize("urdf", sorted((ROOT / "tests" / "data").glob("*.urdf")), ids=lambda p: p.name)
+@pytest.mark.parametrize("urdf", sorted((DATA).glob("*.urdf")), ids=lambda p: p.name)
 def test_print_dh_of_an_imported_urdf_has_no_rounding_dust(urdf) -> None:
     tip = ["--tip", "left_finger"] if urdf.name == "branching.urdf" else []  # a tree: name its tip
     result = run("--robot", str(urdf), *tip, "--print-dh")

@@ -5,13 +5,13 @@ kinematics; bad URDFs are refused with one clear error; robot → URDF → robot
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from paths import DATA
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, random_dh_robot, random_q, robot
 from robot_sim.dynamics import gravity_torque, mass_matrix
 from robot_sim.kinematics import forward_kinematics
@@ -20,7 +20,6 @@ from robot_sim.io.robot_file import load_robot
 from robot_sim.io.urdf_out import to_urdf
 from urdf_helpers import chain, moving, origin_matrix, parse, urdf_fk, urdf_mass_matrix
 
-DATA = Path(__file__).parent / "data"
 seeds = st.integers(0, 2**32 - 1)
 
 

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from paths import ROOT
 from robot_sim.graphics import defs as gd
 from robot_sim.qt import settings as qs
 from window_helpers import app, changed_pixels, grab, is_red, open_window, press, project, wait_until  # noqa: F401
@@ -28,7 +29,6 @@ from robot_sim.viewer.dh_table import COLUMNS  # noqa: E402
 from robot_sim.viewer.readout import pose_readout  # noqa: E402
 from robot_sim.kinematics import manipulability  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 pytestmark = pytest.mark.window
 
 

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 
 import os
-from pathlib import Path
 from typing import Any, Iterator
 
 import numpy as np
 import pytest
 
+from paths import ROOT  # noqa: F401 - test_window imports it from here
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.themes import THEMES
 from robot_sim.app import cli
@@ -25,7 +25,6 @@ from PyQt5.QtWidgets import QApplication  # noqa: E402
 
 from robot_sim.qt import window as viewer_window  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
