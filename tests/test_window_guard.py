@@ -7,11 +7,12 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-PROBE = Path(__file__).resolve().parent / "window_fault_probe.py"
+from paths import ROOT
+
+PROBE = ROOT / "tests" / "window_fault_probe.py"
 
 
 @pytest.mark.window
