@@ -102,8 +102,11 @@ def test_a_screenshot_records_its_command_as_given(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_make_pictures_renders_every_docs_picture_again(tmp_path: Path) -> None:
     """Each documented picture command, run in a fresh folder, makes a picture of the size
-    of the one in docs/ (the pixels differ with the GL driver; the command is what is kept)."""
+    of the one in docs/ (the pixels differ with the GL driver; the command is what is kept).
+    The folder holds the world files of docs/, as the checkout does."""
     (tmp_path / "docs").mkdir()
+    for data in (ROOT / "docs").glob("*.toml"):  # the world files the commands read
+        (tmp_path / "docs" / data.name).write_bytes(data.read_bytes())
     for target, args in documented_picture_commands().items():
         result = run(*args, cwd=tmp_path)
         assert result.returncode == 0, f"{target}: {shlex.join(args)}\n{result.stderr}"
