@@ -16,7 +16,7 @@ from robot_sim.control.controllers import ComputedTorque, control_gains
 from robot_sim.control.simulation import Simulation
 from robot_sim.io.robot_file import load_robot
 
-from cli_helpers import run
+from cli_helpers import run, run_process
 
 
 def _critical_settling(omega: float) -> float:
@@ -123,10 +123,12 @@ def test_command_line_sweep_writes_csv(tmp_path):
     out = tmp_path / "sweep.csv"
     args = ["sweep", "--robot", "ur5", "--motion", "ct",
             "--kp", "100:1000:4", "--duration", "0.05", "--workers", "1", "--out", str(out)]
-    done = run(*args)
+    # A process of its own: ProgressBar binds sys.stderr when sweep_cmd is imported, so in
+    # this process its bar would go wherever stderr was then (another test's capture).
+    done = run_process(*args)
     assert done.returncode == 0, done.stderr
     assert "wrote 4 runs" in done.stdout and "4/4 runs" in done.stderr
     rows = out.read_text().splitlines()
     assert [float(r.split(",")[0]) for r in rows[1:]] == [100.0, 400.0, 700.0, 1000.0]
-    bad = run(*args[:6], "100:1000", *args[7:])
+    bad = run(*args[:6], "100:1000", *args[7:])  # the error line is printed at the call
     assert bad.returncode == 2 and bad.stderr.startswith("robot-sim sweep: error: --kp '100:1000'")
