@@ -2,7 +2,7 @@
 
 Each ``.venv/bin/robot-sim ... --screenshot docs/NAME.png`` command of README.md or a
 docs/*.md page (found by tests/doc_blocks.py, the parser the doc tests use) is run from
-the checkout's root, so the PNGs record relative paths only (tests/test_docs_pictures.py
+the checkout's root, so the PNGs record relative paths only (tests/docs/test_docs_pictures.py
 checks that).  The window picture is made by docs/window_picture.py (it needs a display).
 Run by ``make pictures``.
 """

@@ -4,7 +4,7 @@ A picture's visible text (the window's title, the DH dock's file name) comes fro
 command, so every PNG in docs/ must record its command (text chunk ``Source``, written by
 ``--screenshot``, ``--record``, ``P`` and docs/window_picture.py), that command must be one
 the docs show (so ``make pictures`` can make it again) and no text chunk may name the
-folder the checkout lives in.  tests/test_docs_commands.py checks that no documented
+folder the checkout lives in.  tests/docs/test_docs_commands.py checks that no documented
 command uses an absolute path."""
 from __future__ import annotations
 
