@@ -80,9 +80,9 @@ def run(*args: str, env: dict[str, str] | None = None, cwd: Path = ROOT,
     """``robot-sim ARGS`` in this process (see the module's docstring); the exit status is
     main's return value or SystemExit's code.  Any other exception propagates, failing the
     test with its traceback (a child process would have printed it and exited 1)."""
-    from robot_sim.app.main import main
-
     with program_context(env, cwd) as (out, err), time_limit(timeout, f"robot-sim {' '.join(args)}"):
+        from robot_sim.app.main import main  # inside: its import sets OPENBLAS_NUM_THREADS
+
         try:
             code = main(list(args))
         except SystemExit as exc:  # as the interpreter turns it into an exit status

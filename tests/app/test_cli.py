@@ -260,3 +260,16 @@ def test_bad_theme_or_look_is_one_exact_line(args: list[str], message: str, tmp_
     assert result.stderr == message + "\n"
     assert not out.exists()
 
+
+
+def test_in_process_runs_leave_the_test_process_as_it_was(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """cli_helpers.run: inside, no display (a command that would open the window says so)
+    and the given working folder; afterwards the environment, folder and streams are back."""
+    monkeypatch.setenv("DISPLAY", ":99")
+    before = (dict(os.environ), os.getcwd(), sys.stdout, sys.stderr)
+    assert_one_line_error(run("--robot", "planar3"), "no display", "use --screenshot FILE.png")
+    result = run("--robot", "planar3", "--size", "32x24", "--screenshot", "here.png", cwd=tmp_path)
+    assert result.returncode == 0 and result.stdout == f"wrote {tmp_path / 'here.png'}\n" and result.stderr == ""
+    assert read_png(tmp_path / "here.png").shape[:2] == (24, 32)
+    assert run("--robot", "planar3", "--print-dh").stdout.startswith("Three-link planar arm: 3 joints (R R R)")
+    assert (dict(os.environ), os.getcwd(), sys.stdout, sys.stderr) == before
