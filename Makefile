@@ -14,10 +14,19 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
 .PHONY: test test-full run bench pictures setup system-deps clean
 
-# The default suite: every test but the slow parts of the robot and start sweeps.
+# The default suite: every test but the slow parts of the robot and start sweeps.  Its two
+# pytest processes run side by side, one a core: the headless tests (OSMesa) in front, the
+# real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
+# the headless one.  Fails when either fails.
 test: setup
-	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q
-	$(XVFB) $(PY) -m pytest -q -m window
+	@log=$$(mktemp); \
+	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider >$$log 2>&1 & window=$$!; \
+	trap 'kill $$window 2>/dev/null; rm -f $$log' INT TERM; \
+	echo "headless tests (OSMesa); the window tests run meanwhile under xvfb-run"; \
+	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q; headless=$$?; \
+	wait $$window; windowed=$$?; \
+	echo "window tests (xvfb-run, pytest -m window):"; cat $$log; rm -f $$log; \
+	test $$headless -eq 0 && test $$windowed -eq 0
 
 # Everything, the full sweeps included.
 test-full: setup
