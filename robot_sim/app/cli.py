@@ -467,7 +467,7 @@ def session_from_config(config: Config) -> ViewerSession:
     spec = SessionSpec(config.robot, size=config.size, q=config.q, theme=config.theme, look=config.look,
                        world=config.world, gains=config.gains, motion=config.motion, simulate=config.simulate,
                        frames=config.frames, wireframe=config.wireframe, collision=config.collision,
-                       annotate=config.annotate, pick=pick)
+                       annotate=config.annotate, pick=pick, demo="circle" if config.demo == "circle" else None)
     try:
         return build_session(spec)
     except ValueError as exc:  # e.g. dynamics refusing the robot's data, a stop in the first seconds
@@ -479,16 +479,13 @@ def window_options(config: Config) -> "WindowOptions":
     from robot_sim.qt.window import WindowOptions
 
     return WindowOptions(robot_arg=config.robot_arg, workspace=config.workspace,
-                         circle_demo=config.demo == "circle", message=config.pick_report,
-                         gains=dict(config.gains), world=config.world)
+                         message=config.pick_report)
 
 
 def write_recording(config: Config) -> tuple[list[Path], Path | None]:
     """``--record``: the session rendered offscreen to a numbered PNG sequence, and an MP4
     when the optional ``video`` extra is installed (no Qt); returns both paths."""
     session = session_from_config(config)
-    if config.demo == "circle":
-        session.toggle_demo()
     try:
         return recording.record(session, config.record, config.duration, config.fps, config.size,
                                 picture_text(config))

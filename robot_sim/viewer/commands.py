@@ -143,3 +143,6 @@ COMMANDS: dict[str, Command] = {
     "toggle_trail": toggle_trail,
     "go_home": go_home,
 }
+
+#: The commands that can set the arm moving (a view then starts stepping the session).
+STARTS_MOTION = frozenset({"toggle_demo", "toggle_target", "move_target", "rotate_target", "go_home"})

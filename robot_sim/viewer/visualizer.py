@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -98,17 +99,27 @@ class Visualizer:
         self.backend.refresh()
 
     def play(self, trajectory: Trajectory | tuple[ArrayLike, ArrayLike], speed: float = 1.0) -> None:
-        """Show ``trajectory`` (a Trajectory, or ``(t, q)`` arrays (N,) s and (N, n)) sample
-        by sample.  A real-time backend (window, web) shows sample k at ``(t[k] - t[0]) /
-        speed`` seconds of wall time, serving its events between; offscreen each sample is
-        rendered once, at once, without sleeping.  ValueError for bad arrays or speed."""
+        """Show ``trajectory`` (a Trajectory, or ``(t, q)`` arrays (N,) s and (N, n)).
+        Offscreen every sample is rendered once, at once, without sleeping.  A real-time
+        backend (window, web) shows at each moment the latest sample due, sample k being due
+        ``(t[k] - t[0]) / speed`` seconds of wall time after the start, and serves its
+        events meanwhile: samples due faster than frames can be drawn are skipped, the last
+        one is always shown.  ValueError for bad arrays or speed (nothing is shown)."""
         if not (isinstance(speed, (int, float)) and math.isfinite(speed) and speed > 0):
             raise ValueError(f"speed: expected a positive finite number, got {str(speed)[:80]}")
         t, q = self._samples(trajectory)
-        for k in range(t.shape[0]):
+        if not self.backend.realtime:
+            for qk in q:
+                self.display(qk)
+            return
+        due = (t - t[0]) / speed
+        start, k = time.monotonic(), 0
+        while True:
+            k = max(k, int(np.searchsorted(due, time.monotonic() - start, side="right")) - 1)
             self.display(q[k])
-            if self.backend.realtime and k + 1 < t.shape[0]:
-                self.backend.wait((t[k + 1] - t[k]) / speed)
+            if k == len(t) - 1:
+                return
+            self.backend.wait(max(0.0, due[k + 1] - (time.monotonic() - start)))
 
     def _samples(self, trajectory: Trajectory | tuple[ArrayLike, ArrayLike]) -> tuple[NDArray, NDArray]:
         if isinstance(trajectory, Trajectory):
