@@ -170,28 +170,35 @@ def gain_arguments(args: argparse.Namespace, robot: RobotParams) -> dict[str, An
 
 def parse_gains(text: str, robot: RobotParams, option: str) -> np.ndarray:
     """Parse ``--kp``/``--kd``: one finite gain >= 0 per joint, comma separated."""
-    parts = [p.strip() for p in text.split(",")]
-    if len(parts) != robot.n_dofs:
-        raise CliError(f"{option}: robot '{robot.name}' has {robot.n_dofs} joints, got {len(parts)} gains")
     gains = []
-    for i, part in enumerate(parts):
-        try:
-            value = float(part)
-        except ValueError:
-            value = math.nan
+    for i, part in enumerate(_per_joint(text, robot, option, "gains")):
+        value = float(part) if _is_float(part) else math.nan
         if not (math.isfinite(value) and value >= 0):
             raise CliError(f"{option}: gain {i + 1} '{part}' is not a finite number >= 0")
         gains.append(value)
     return np.array(gains)
 
 
-def parse_q(text: str, robot: RobotParams) -> np.ndarray:
-    """Parse ``--q`` (degrees for revolute, metres for prismatic) into SI joint values (n,)."""
+def _per_joint(text: str, robot: RobotParams, option: str, what: str) -> list[str]:
+    """The comma-separated parts of ``text``, one per joint of ``robot``, else CliError."""
     parts = [p.strip() for p in text.split(",")]
     if len(parts) != robot.n_dofs:
-        raise CliError(f"--q: robot '{robot.name}' has {robot.n_dofs} joints, got {len(parts)} values")
+        raise CliError(f"{option}: robot '{robot.name}' has {robot.n_dofs} joints, got {len(parts)} {what}")
+    return parts
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def parse_q(text: str, robot: RobotParams) -> np.ndarray:
+    """Parse ``--q`` (degrees for revolute, metres for prismatic) into SI joint values (n,)."""
     values = []
-    for i, part in enumerate(parts):
+    for i, part in enumerate(_per_joint(text, robot, "--q", "values")):
         try:
             value = float(part)
         except ValueError:
