@@ -53,9 +53,11 @@ def workdir(tmp: Path) -> Path:
 
 
 #: Words of a Python block after which it runs in its own interpreter: it starts processes,
-#: changes the environment of the process, or loads Qt or a GL platform of its own.
+#: changes the environment of the process, or loads Qt, a browser server or a GL platform of
+#: its own (a Visualizer's offscreen backend draws through the OSMesa this process uses).
 OWN_INTERPRETER = ("os.environ", "putenv", "subprocess", "multiprocessing", "workers=", "client=",
-                   "PyQt5", "OpenGL", "Visualizer", "rs.show(", "faulthandler", "signal")
+                   "PyQt5", "OpenGL", 'backend="window"', "backend='window'", 'backend="web"',
+                   "backend='web'", "faulthandler", "signal")
 
 
 def needs_own_interpreter(block: Block) -> bool:
