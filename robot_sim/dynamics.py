@@ -41,12 +41,14 @@ from __future__ import annotations
 
 import math
 import os
-import weakref
 from typing import Any, NamedTuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robot_sim.kernels.model import (
+    CA, CNEG, CPOS, HX, HZ, IXX, IXZ, MASS, REFL, SA, VISC, compiled_model, per_robot, snap as _snap,
+)
 from robot_sim.kinematics import cos_sin_half, forward_kinematics
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 
@@ -57,7 +59,6 @@ Vec = tuple  # three Scalars
 GRAVITY = (0.0, 0.0, -9.81)
 #: Configurations per chunk of the batched kernels (work arrays stay in cache).
 CHUNK = 2048
-_SNAP = 1e-12  # cos/sin of constant angles closer than this to 0 or ±1 are made exact
 #: The implementations: "compiled" (numba kernels of dynamics_compiled, the default) and
 #: "reference" (the readable recursion of this module).  The environment variable
 #: ``ROBOT_SIM_DYNAMICS`` picks one at import, :func:`set_backend` at run time.
@@ -218,13 +219,6 @@ def _rot_sym_x(m: tuple, c: float, s: float) -> tuple:
     )
 
 
-def _snap(x: float) -> float:
-    for exact in (0.0, 1.0, -1.0):
-        if abs(x - exact) < _SNAP:
-            return exact
-    return float(x)
-
-
 # ------------------------------------------------------------------ per-robot model
 
 
@@ -232,33 +226,24 @@ class _DynModel:
     """Robot constants for the kernels, in each link's own frame (built once per robot)."""
 
     def __init__(self, robot: RobotParams) -> None:
-        li = robot.inertials
         n = robot.n_dofs
+        P = self.table = compiled_model(robot).table
         self.n = n
         self.modified = robot.is_modified
         self.revolute = [bool(t == JTYPE_REVOLUTE) for t in robot.jtype]
         self.rev_index = np.flatnonzero(np.asarray(self.revolute))
         self.th = robot.dh_th.copy()
-        self.ca = [_snap(math.cos(al)) for al in robot.dh_alpha]
-        self.sa = [_snap(math.sin(al)) for al in robot.dh_alpha]
+        self.ca, self.sa = P[:, CA].tolist(), P[:, SA].tolist()
         self.ct = [_snap(math.cos(t)) for t in robot.dh_th]
         self.st = [_snap(math.sin(t)) for t in robot.dh_th]
         self.a = [float(v) for v in robot.dh_a]
         self.d = [float(v) for v in robot.dh_d]
-        self.mass = [float(m) for m in li.mass]
-        self.h = [tuple(float(m) * float(c) for c in com) for m, com in zip(li.mass, li.com)]
-        self.inertia_o = []  # inertia about the frame origin: I_c + m(|c|² 1 − c cᵀ)
-        for m, com, ic in zip(li.mass, li.com, li.inertia):
-            io = ic + m * (com @ com * np.eye(3) - np.outer(com, com))
-            self.inertia_o.append(tuple(float(io[i, j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))))
-        dr = robot.drives
-        zeros = np.zeros(n)
-        self.reflected = zeros if dr is None else dr.reflected_inertia
-        self.viscous = zeros if dr is None else dr.gear_ratio**2 * dr.viscous
-        self.coulomb_pos = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 0]
-        self.coulomb_neg = zeros if dr is None else np.abs(dr.gear_ratio) * dr.coulomb[:, 1]
+        self.mass = P[:, MASS].tolist()
+        self.h = [tuple(row) for row in P[:, HX : HZ + 1].tolist()]
+        self.inertia_o = [tuple(row) for row in P[:, IXX : IXZ + 1].tolist()]  # about the frame origin
+        self.reflected, self.viscous = P[:, REFL].copy(), P[:, VISC].copy()
+        self.coulomb_pos, self.coulomb_neg = P[:, CPOS].copy(), P[:, CNEG].copy()
         self.has_friction = bool(np.any(self.viscous) or np.any(self.coulomb_pos) or np.any(self.coulomb_neg))
-        self.table: FloatArray | None = None  # parameter table of the compiled kernels
         self.zero = np.zeros(n)  # zero rates for the compiled kernels (read only by them)
         self.base_rotation = robot.base_tf.R().copy()
         self.q_min, self.q_max = robot.q_min.copy(), robot.q_max.copy()
@@ -275,18 +260,10 @@ class _DynModel:
             self._gravity_array = (g0, np.array(g0))
         return self._gravity_array[1]
 
-    def compiled(self):  # -> (module robot_sim.dynamics_compiled, parameter table)
-        """The compiled kernels (numba is imported on first use) and this robot's table."""
-        if self.table is not None:
-            return _compiled_kernels, self.table
-        kernels = _import_compiled()
-        self.table = kernels.parameter_table(
-            modified=self.modified, revolute=self.revolute, theta=self.th, d=self.d, a=self.a,
-            cos_alpha=self.ca, sin_alpha=self.sa, mass=self.mass, first_moment=self.h, inertia=self.inertia_o,
-            reflected=self.reflected, viscous=self.viscous, coulomb_pos=self.coulomb_pos, coulomb_neg=self.coulomb_neg,
-            q_min=self.q_min, q_max=self.q_max,
-        )
-        return kernels, self.table
+    def compiled(self):  # -> (module robot_sim.dynamics_compiled, model table)
+        """The compiled kernels (numba is imported on first use) and the robot's compiled
+        model table (:mod:`robot_sim.kernels.model`)."""
+        return _import_compiled(), self.table
 
     def gravity_in_frame0(self, robot: RobotParams, gravity: ArrayLike) -> tuple[float, float, float]:
         """World gravity [m/s²] in frame 0 (the last one is kept: it rarely changes)."""
@@ -362,19 +339,13 @@ def _import_compiled():
     return _compiled_kernels
 
 
-_MODELS: "weakref.WeakKeyDictionary[RobotParams, _DynModel]" = weakref.WeakKeyDictionary()
-
-
 def _model(robot: RobotParams) -> _DynModel:
-    model = _MODELS.get(robot)
-    if model is None:
-        if robot.inertials is None:
-            raise ValueError(
-                f"{robot.name}: joints[0] has no [joints.inertial] (the robot has no inertial data); "
-                "add [joints.inertial] tables to its file, or use inertials.estimate_inertials(robot)"
-            )
-        model = _MODELS[robot] = _DynModel(robot)
-    return model
+    if robot.inertials is None:
+        raise ValueError(
+            f"{robot.name}: joints[0] has no [joints.inertial] (the robot has no inertial data); "
+            "add [joints.inertial] tables to its file, or use inertials.estimate_inertials(robot)"
+        )
+    return per_robot(robot, "dynamics", _DynModel)
 
 
 # ------------------------------------------------------------------ kernels

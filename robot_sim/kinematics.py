@@ -29,13 +29,13 @@ from __future__ import annotations
 
 import math
 import os
-import weakref
 from dataclasses import dataclass
 from typing import Any, Callable, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robot_sim.kernels.model import per_robot
 from robot_sim.model.messages import clip, clip_repr
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.model.state import JointState, check_joint_vector
@@ -315,14 +315,8 @@ class _ChainModel:
         return X, Y, Z, P
 
 
-_MODELS: "weakref.WeakKeyDictionary[RobotParams, _ChainModel]" = weakref.WeakKeyDictionary()
-
-
 def _model(robot: RobotParams) -> _ChainModel:
-    model = _MODELS.get(robot)
-    if model is None:
-        model = _MODELS[robot] = _ChainModel(robot)
-    return model
+    return per_robot(robot, "kinematics", _ChainModel)
 
 
 def _world0(robot: RobotParams, world_tf: HomogeneousTransform | ArrayLike | None) -> FloatArray:

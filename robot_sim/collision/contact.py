@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.kernels import chain
 from robot_sim.model.params import JTYPE_REVOLUTE
 from robot_sim.model.state import check_joint_vector
 
@@ -210,7 +211,7 @@ class ContactModel:
     def _frames(self, q: FloatArray) -> None:
         """World frames 0..n at q into self._F (for the gains' Jacobians)."""
         scene = self.checker.scene
-        batch.link_frames(q, scene.dh, self.robot.is_modified, scene.world0, self._F)
+        chain.frames(scene.dh, self.robot.is_modified, scene.world0, q, self._F)
 
     def _gains_at(self, M: FloatArray, p: int, points: FloatArray, normal: FloatArray, dt: float) -> FloatArray:
         """[k_n, c_n, k_t, c_t] of pair p: the normal gains from its effective mass along

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision._jit import JIT, njit
+from robot_sim.kernels.jit import JIT, njit
 from robot_sim.collision.batch import _pose, _workspace
 from robot_sim.collision.closest import madd
 from robot_sim.collision.narrow import core_ends, pair_distance

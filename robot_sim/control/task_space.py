@@ -49,9 +49,10 @@ from numpy.typing import ArrayLike, NDArray
 from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, Controller, Gains, control_gains
 from robot_sim.control.task_error import rotation_command, rotation_logs
+from robot_sim.kernels.model import compiled_model
 from robot_sim.kinematics import characteristic_length, task_rows, tool_kinematics
 from robot_sim.model.messages import clip_repr
-from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.model.params import RobotParams
 from robot_sim.transforms import rotation_log
 
 FloatArray = NDArray[np.float64]
@@ -255,13 +256,13 @@ class OperationalSpace(TaskSpaceController):
         self._step_kernel: tuple | None = None
 
     def _step_parts(self) -> tuple:
-        """(osc_step, dynamics table, frame-0 gravity, kinematic table, modified, base,
-        tool, rows), made on first use."""
+        """(osc_step, model table, frame-0 gravity, modified, base, tool, rows), made on
+        first use."""
         if self._step_kernel is None:
             from robot_sim.control import task_space_compiled as tc
 
             _, table, g0 = dynamics.compiled_kernels(self.robot)
-            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[1:])
+            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[2:])
         return self._step_kernel
 
     def integrate(
@@ -279,7 +280,7 @@ class OperationalSpace(TaskSpaceController):
         n = self.robot.n_dofs
         if dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
             return None
-        step, table, g0, K, modified, base, tool, rows = self._step_parts()
+        step, table, g0, modified, base, tool, rows = self._step_parts()
         desired = (desired_at(t), desired_at(t + 0.5 * h), desired_at(t + h))
         fixed = desired[1] is desired[0] and desired[2] is desired[0]
         if fixed and self._packed is not None and self._packed[0] is desired[0]:
@@ -293,7 +294,7 @@ class OperationalSpace(TaskSpaceController):
         q1, qd1, a1, tau, e = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(rows.shape[0])
         if self._limit is None or self._limit[0] is not limit:
             self._limit = (limit, np.ascontiguousarray(limit, dtype=float), bool(np.isfinite(limit).any()))
-        status = step(table, g0, self._limit[1], self._limit[2], K, modified, base, tool, rows, self.weights,
+        status = step(table, g0, self._limit[1], self._limit[2], modified, base, tool, rows, self.weights,
                       integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
                       self.eps_inertia, self.robot.q_min, self.robot.q_max, q1, qd1, a1, tau, e)
         if status not in (0, 3):
@@ -316,15 +317,14 @@ class OperationalSpace(TaskSpaceController):
         return TD, VD, AD, POST
 
     def _kernel_parts(self) -> tuple:
-        """(osc_one, kinematic table, modified, base, tool, rows) of the compiled law, made
+        """(osc_one, model table, modified, base, tool, rows) of the compiled law, made
         on first use (numba is imported then)."""
         if self._kernel is None:
             from robot_sim.control import task_space_compiled as tc
 
-            r = self.robot
-            table = tc.kinematic_table(r.jtype == JTYPE_REVOLUTE, r.dh_th, r.dh_d, r.dh_a, np.cos(r.dh_alpha), np.sin(r.dh_alpha))
-            self._kernel = (tc.osc_one, table, bool(r.is_modified), np.ascontiguousarray(r.base_tf.mat),
-                            np.ascontiguousarray(r.tool_tf.mat), np.ascontiguousarray(self.rows, dtype=np.int64))
+            model = compiled_model(self.robot)
+            self._kernel = (tc.osc_one, model.table, model.modified, model.base, model.tool,
+                            np.ascontiguousarray(self.rows, dtype=np.int64))
         return self._kernel
 
     def _compiled(self, q: Any, qd: Any, pose_d: Any, twist_d: Any, accel_d: Any, joints: Any, lam2: float):
