@@ -31,7 +31,7 @@ def test_every_module_with_compiled_kernels_is_a_kernel_source():
     sources = {p.relative_to(PACKAGE).as_posix() for p in jit.kernel_sources()}
     with_njit = {p.relative_to(PACKAGE).as_posix() for p in PACKAGE.rglob("*.py") if "@njit" in p.read_text()}
     assert with_njit <= sources
-    assert {"kernels/algebra.py", "kernels/chain.py", "dynamics_compiled.py", "collision/batch.py",
+    assert {"kernels/algebra.py", "kernels/chain.py", "dynamics/compiled.py", "collision/batch.py",
             "control/task_space_compiled.py"} <= sources
 
 

@@ -17,25 +17,28 @@ ALLOWED = {
     "io": {"model", "transforms"},
     "kernels": {"model", "transforms"},  # the compiled model and shared kernels, below kinematics
     "kinematics": {"model", "kernels", "transforms"},
-    "dynamics_compiled": {"kernels"},  # numba kernels of dynamics: numpy, numba and the kernels layer
-    "dynamics": {"model", "kernels", "kinematics", "dynamics_compiled", "transforms"},
+    "dynamics": {"model", "kernels", "kinematics", "transforms"},
     "collision": {"model", "io", "kernels", "kinematics", "dynamics", "transforms"},
-    "control": {"model", "io", "kernels", "kinematics", "dynamics", "dynamics_compiled", "collision", "planning",
-                "transforms"},
+    "control": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "planning",
+                "transforms"},  # the laws: never sim
+    "sim": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control",
+            "planning", "transforms"},  # the physics loop
     "planning": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "transforms"},
-    "graphics": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},
-    "viewer": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
+    "graphics": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
+                 "transforms"},
+    "viewer": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
                "transforms"},
-    "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
+    "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
            "viewer", "transforms"},
-    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
+    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
             "viewer", "qt", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
-    "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning",
-              "graphics", "viewer"},
-    "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "planning"},
+    "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+              "planning", "graphics", "viewer"},
+    "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+               "planning"},
 }
 
 

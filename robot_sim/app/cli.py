@@ -33,7 +33,7 @@ from robot_sim.model.world import World
 from robot_sim.viewer import recording
 from robot_sim.viewer.pick_demo import plan_for
 from robot_sim.control.controllers import PHYSICAL_MODES
-from robot_sim.control.pick_run import simulate_pick
+from robot_sim.sim.pick_run import simulate_pick
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.viewer.session import ViewerSession, compute_workspace, display_range, display_scale
 

@@ -6,7 +6,7 @@ joint axes and the tool, J and J̇q̇ (the shared chain kernels of ``robot_sim.k
 the solve for q̈.  The solve uses the Schur complement of the same KKT system,
 ``X = M⁻¹ Jᵀ``, ``F = (J X + λ² W⁻²)⁻¹ (a − J̇q̇ − J q̈₀)``, ``q̈ = q̈₀ + X F``, by Cholesky
 factorisations.  M and the bias torque come from the compiled dynamics kernels
-(``dynamics_compiled``), called from here.
+(``dynamics.compiled``), called from here.
 
 Imported on first use only (numba takes about half a second to import), compiled once per
 machine (``cache=True``, the settings of ``robot_sim.kernels.jit``).  ``P`` is the robot's
@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from robot_sim.dynamics_compiled import crba_batch, rnea_batch
+from robot_sim.dynamics.compiled import crba_batch, rnea_batch
 from robot_sim.kernels.algebra import cholesky, cross, euler_combine, rk4_combine, rk4_stage, solve_factored
 from robot_sim.kernels.chain import frames, jacobian_and_bias, tool_pose
 from robot_sim.kernels.jit import JIT

@@ -8,7 +8,7 @@ compiling again.
 
 numba checks a cached function against its own file only, not against the files of the
 functions it calls (which it compiled in): a kernel edited in ``kernels/algebra.py`` would
-stay stale inside the cached machine code of ``dynamics_compiled`` or of the collision
+stay stale inside the cached machine code of ``dynamics.compiled`` or of the collision
 loops.  So the rule is one for the whole package: every module that takes its settings
 from here is a kernel source, and the cached machine code of all of them is dropped
 whenever any of their sources changes (a digest of them is kept next to each cache).

@@ -275,7 +275,7 @@ def crba_one(P, modified, M, O, CS):
 
 
 @njit(**JIT)
-def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
+def fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
     """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``.  With ``use_held``, the joints j with
     ``held[j]`` are locked: their rows and columns of M are replaced by the identity's and
     their right-hand side by 0, so q̈_j = 0 exactly, and their reaction
@@ -313,7 +313,7 @@ def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, rea
 
 
 @njit(**INLINE)
-def _finite(x):
+def all_finite(x):
     """True if every entry of the vector x is finite."""
     for v in x:
         if not math.isfinite(v):
@@ -341,7 +341,7 @@ def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
     for x in (q, qd, q_des, qd_des, qdd_des, tau, qdd_ref):
         if x.shape[0] != n:
             return False
-    if g0.shape[0] != 3 or not (_finite(q) and _finite(qd) and _finite(q_des) and _finite(qd_des) and _finite(qdd_des)):
+    if g0.shape[0] != 3 or not (all_finite(q) and all_finite(qd) and all_finite(q_des) and all_finite(qd_des) and all_finite(qdd_des)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM)
@@ -368,7 +368,7 @@ def rnea_vec(P, q, qd, qdd, g0, tau):
     n = P.shape[0]
     if not (q.shape[0] == n and qd.shape[0] == n and qdd.shape[0] == n and tau.shape[0] == n and g0.shape[0] == 3):
         return False
-    if not (_finite(q) and _finite(qd) and _finite(qdd)):
+    if not (all_finite(q) and all_finite(qd) and all_finite(qdd)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     _geometry(P, modified, q, O, CS)
@@ -384,11 +384,11 @@ def fd_vec(P, q, qd, tau, g0, qdd):
     n = P.shape[0]
     if not (q.shape[0] == n and qd.shape[0] == n and tau.shape[0] == n and qdd.shape[0] == n and g0.shape[0] == 3):
         return False
-    if not (_finite(q) and _finite(qd) and _finite(tau)):
+    if not (all_finite(q) and all_finite(qd) and all_finite(tau)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
-    _fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
+    fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
     return True
 
 
@@ -402,7 +402,7 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
     for i in range(Q.shape[0]):
         _geometry(P, modified, Q[i], O, CS)
         rnea_one(P, modified, QD[i], QDD[i], g0, FEXT[i if use_ext else 0], use_ext, TAU[i], O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDD[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDD[i])
     return finite
 
 
@@ -415,7 +415,7 @@ def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
     finite = True
     for i in range(Q.shape[0]):
         _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, TAU[i], QDDREF[i], O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDES[i]) and _finite(QDDES[i]) and _finite(QDDDES[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDES[i]) and all_finite(QDDES[i]) and all_finite(QDDDES[i])
     return finite
 
 
@@ -429,7 +429,7 @@ def crba_batch(P, Q, MM):
     for i in range(Q.shape[0]):
         _geometry(P, modified, Q[i], O, CS)
         crba_one(P, modified, MM[i], O, CS)
-        finite = finite and _finite(Q[i])
+        finite = finite and all_finite(Q[i])
     return finite
 
 
@@ -442,9 +442,9 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
     finite = True
     for i in range(Q.shape[0]):
-        _fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
+        fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
                 bias, M, O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(TAU[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(TAU[i])
     return finite
 
 
@@ -471,11 +471,11 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
     elif use_held:
         for j in range(n):
             any_held = any_held or held[j]
-    if use_start and not (any_held or on_stop) and _finite(a_start):
+    if use_start and not (any_held or on_stop) and all_finite(a_start):
         a1[:] = a_start
     else:
-        _fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
-        if not _finite(a1):
+        fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
+        if not all_finite(a1):
             return BAD_ACCEL
     if any_held:
         for j in range(n):
@@ -492,10 +492,10 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
             prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
             out = a2 if stage == 0 else (a3 if stage == 1 else a4)
             rk4_stage(h if stage == 2 else 0.5 * h, q, v, prev, v if stage == 0 else vs, qs, vs)
-            if not (_finite(qs) and _finite(vs)):
+            if not (all_finite(qs) and all_finite(vs)):
                 return BAD_STATE
-            _fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
-            if not _finite(out):
+            fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
+            if not all_finite(out):
                 return BAD_ACCEL
         rk4_combine(h, q, v, a1, a2, a3, a4, q1, qd1)
     status = OK
@@ -511,7 +511,7 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
 
 
 @njit(**INLINE)
-def _work(n):
+def step_work(n):
     """The work arrays of :func:`_step_one` for n joints."""
     return (np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n),
             np.empty((n, n)), np.zeros(6), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
@@ -526,7 +526,7 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     Writes the new state into Q1, QD1, the start acceleration into QDD1 and a status
     (:data:`OK` … :data:`AT_STOP`) into STATUS.
 
-    Held joints (q̈ = 0 in every stage, see :func:`_fd_one`): with ``use_held``, those of
+    Held joints (q̈ = 0 in every stage, see :func:`fd_one`): with ``use_held``, those of
     HELD[i]; with ``stops`` (the joint limits of P), those resting on a stop: exactly on
     it at zero velocity, kept there only if every reaction pushes (λ_j ≥ 0 on a min stop,
     ≤ 0 on a max stop), else :data:`AT_STOP`.  A start with a joint on a stop moving into
@@ -536,7 +536,7 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     (from a start holding no joint; else :data:`AT_STOP`)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
-    work = _work(n)
+    work = step_work(n)
     held = np.zeros(n, dtype=np.bool_)
     for i in range(Q.shape[0]):
         if not active[i]:
@@ -559,7 +559,7 @@ def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, activ
     stepped)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
-    work = _work(n)
+    work = step_work(n)
     O, CS, F, NM = work[0], work[1], work[2], work[3]
     held = np.zeros(n, dtype=np.bool_)
     qdd_ref = np.empty(n)
