@@ -142,6 +142,10 @@ class ContactModel:
         batch.pair_results(q, *scene.args(), self._pairs, scene.verts, margin, d, pts, nrm,
                            np.empty_like(scene.recs0))
         near = np.flatnonzero(d < margin)
+        if np.array_equal(near, self._active):  # the same pairs as in the last step: gains and anchors stay
+            if near.size and self.friction > 0.0:
+                self._evaluate(q, qd, update=True)
+            return near.size > 0
         previous = {int(p): k for k, p in enumerate(self._active)}
         A = near.size
         gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
