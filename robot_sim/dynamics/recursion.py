@@ -65,7 +65,8 @@ class _DynModel:
     def compiled(self):  # -> (module robot_sim.dynamics.compiled, model table)
         """The compiled kernels (numba is imported on first use) and the robot's compiled
         model table (:mod:`robot_sim.kernels.model`)."""
-        return _import_compiled(), self.table
+        kernels = _compiled_kernels
+        return (_import_compiled() if kernels is None else kernels), self.table
 
     def gravity_in_frame0(self, robot: RobotParams, gravity: ArrayLike) -> tuple[float, float, float]:
         """World gravity [m/s²] in frame 0 (the last one is kept: it rarely changes)."""

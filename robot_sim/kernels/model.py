@@ -8,8 +8,7 @@ explicitly.  :func:`compiled_model` is the one per-robot cache of the package: i
 the model weakly keyed by the :class:`RobotParams` (the entry goes when the robot's last
 user does), and per-robot data derived from it by the layers above (the chain model of
 ``kinematics``, the recursion model of ``dynamics``, the DH capsules and the self-contact
-pairs of ``collision``) lives in the model's :meth:`CompiledModel.derived` store, so it
-goes with it.  Nothing stored there may hold the robot itself.
+pairs of ``collision``) is kept in the model (:func:`per_robot`), so it goes with it.  Nothing stored there may hold the robot itself.
 
 Columns of :attr:`CompiledModel.table` (n, :data:`NCOL`), per joint j, SI units, link
 quantities in link j's own DH frame (inertia about the frame origin):
@@ -17,7 +16,7 @@ quantities in link j's own DH frame (inertia about the frame origin):
 * ``REV`` 1.0 revolute / 0.0 prismatic; ``TH``, ``D`` the DH θ [rad] and d [m] offsets;
   ``A`` a [m]; ``CA``, ``SA`` cos α and sin α (values within 1e-12 of 0 or ±1 made exact);
 * ``MASS`` [kg], ``HX..HZ`` first moment m·c [kg·m], ``IXX, IYY, IZZ, IXY, IYZ, IXZ``
-  [kg·m²] (all 0.0 without inertial data: :attr:`CompiledModel.has_inertials`);
+  [kg·m²] (all 0.0 without inertial data);
 * ``REFL`` G²Jm [kg·m²], ``VISC`` G²B [N·m·s/rad], ``CPOS``, ``CNEG`` |G|·Tc± [N·m];
 * ``SVX..SWZ`` the joint's motion subspace [v of the frame origin; ω] per unit rate, frame j;
 * ``MOD`` 1.0 in every row for modified DH (Craig); ``QLO``, ``QHI`` the limits [rad or m].
@@ -71,15 +70,7 @@ class CompiledModel:
     modified: bool
     base: FloatArray
     tool: FloatArray
-    has_inertials: bool
-    _derived: dict = field(default_factory=dict, repr=False)
-
-    def derived(self, key: str, build: Callable[[], T]) -> T:
-        """The per-robot object stored under ``key``, built by ``build()`` on first use."""
-        found = self._derived.get(key)
-        if found is None:
-            found = self._derived[key] = build()
-        return found
+    _derived: dict = field(default_factory=dict, repr=False)  # per_robot's store
 
 
 _MODELS: "weakref.WeakKeyDictionary[RobotParams, CompiledModel]" = weakref.WeakKeyDictionary()
@@ -96,7 +87,13 @@ def compiled_model(robot: RobotParams) -> CompiledModel:
 def per_robot(robot: RobotParams, key: str, build: Callable[[RobotParams], T]) -> T:
     """Per-robot data of a layer, ``build(robot)`` once, kept with the robot's compiled
     model (``build``'s result must not hold the robot)."""
-    return compiled_model(robot).derived(key, lambda: build(robot))
+    model = _MODELS.get(robot)  # (compiled_model written out: this is on every dynamics call's path)
+    if model is None:
+        model = compiled_model(robot)
+    found = model._derived.get(key)
+    if found is None:
+        found = model._derived[key] = build(robot)
+    return found
 
 
 def _contiguous(a: FloatArray) -> FloatArray:
@@ -144,6 +141,6 @@ def _build(robot: RobotParams) -> CompiledModel:
     P[:, QLO], P[:, QHI] = robot.q_min, robot.q_max
     return CompiledModel(
         n=n, table=_contiguous(P), modified=modified, base=_contiguous(robot.base_tf.mat),
-        tool=_contiguous(robot.tool_tf.mat), has_inertials=li is not None,
+        tool=_contiguous(robot.tool_tf.mat),
     )
 
