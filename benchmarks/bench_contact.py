@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 
 from robot_sim import dynamics  # noqa: E402
 from robot_sim.collision import Box, CollisionChecker, World  # noqa: E402
-from robot_sim.control.simulation import Simulation  # noqa: E402
+from robot_sim.sim.simulation import Simulation  # noqa: E402
 from robot_sim.io.robot_file import available_robots, load_robot  # noqa: E402
 from robot_sim.transforms import HomogeneousTransform  # noqa: E402
 

@@ -32,10 +32,10 @@ import numpy as np  # noqa: E402
 
 from bench_dynamics import using  # noqa: E402
 from robot_sim import dynamics  # noqa: E402
-from robot_sim.control.batch import BatchSimulation  # noqa: E402
+from robot_sim.sim.batch import BatchSimulation  # noqa: E402
 from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
-from robot_sim.control.simulation import Simulation  # noqa: E402
-from robot_sim.control.sweep import sweep  # noqa: E402
+from robot_sim.sim.simulation import Simulation  # noqa: E402
+from robot_sim.sim.sweep import sweep  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
 from robot_sim.model.params import RobotParams  # noqa: E402
 

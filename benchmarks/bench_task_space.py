@@ -24,9 +24,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
-from robot_sim.control.batch import BatchSimulation  # noqa: E402
+from robot_sim.sim.batch import BatchSimulation  # noqa: E402
 from robot_sim.control.factory import make_controller  # noqa: E402
-from robot_sim.control.simulation import Simulation  # noqa: E402
+from robot_sim.sim.simulation import Simulation  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
 from robot_sim.kinematics import forward_kinematics  # noqa: E402
 

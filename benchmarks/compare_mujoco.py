@@ -30,9 +30,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import mujoco  # noqa: E402
 
 from oracle_arms import without_drives  # noqa: E402
-from robot_sim.control.batch import BatchSimulation  # noqa: E402
+from robot_sim.sim.batch import BatchSimulation  # noqa: E402
 from robot_sim.control.controllers import ComputedTorque, control_gains  # noqa: E402
-from robot_sim.control.simulation import Simulation  # noqa: E402
+from robot_sim.sim.simulation import Simulation  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
 from robot_sim.io.urdf_out import to_urdf  # noqa: E402
 from robot_sim.model.params import RobotParams  # noqa: E402

@@ -54,11 +54,11 @@ _EXPORTS = {
     "constrained_forward_dynamics": "robot_sim.dynamics",
     "energy": "robot_sim.dynamics",
     # simulation and control
-    "Simulation": "robot_sim.control.simulation",
-    "LimitEvent": "robot_sim.control.simulation",
+    "Simulation": "robot_sim.sim.simulation",
+    "LimitEvent": "robot_sim.sim.stops",
     "make_controller": "robot_sim.control.factory",
-    "BatchSimulation": "robot_sim.control.batch",
-    "sweep": "robot_sim.control.sweep",
+    "BatchSimulation": "robot_sim.sim.batch",
+    "sweep": "robot_sim.sim.sweep",
     # conversion and files
     "to_standard": "robot_sim.model.convert",
     "to_modified": "robot_sim.model.convert",
@@ -99,8 +99,8 @@ _EXPORTS = {
     "CollisionChecker": "robot_sim.collision.checker",
     "DistanceResult": "robot_sim.collision.distance",
     "shape_distance": "robot_sim.collision.distance",
-    "ContactModel": "robot_sim.collision.contact",
-    "ContactForce": "robot_sim.collision.contact",
+    "ContactModel": "robot_sim.sim.contact",
+    "ContactForce": "robot_sim.sim.contact",
     # viewing
     "Visualizer": "robot_sim.viewer.visualizer",
     "show": "robot_sim.viewer.visualizer",

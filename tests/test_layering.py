@@ -16,26 +16,30 @@ ALLOWED = {
     "transforms": set(),
     "model": {"transforms"},
     "io": {"model", "transforms"},
-    "kinematics": {"model", "transforms"},
-    "jit": set(),  # numba's settings, shared by the compiled kernels
-    "dynamics_compiled": {"jit"},  # numba kernels of dynamics: numpy, numba and their settings
-    "dynamics": {"model", "kinematics", "dynamics_compiled", "transforms"},
-    "collision": {"model", "io", "kinematics", "dynamics", "jit", "transforms"},
-    "control": {"model", "io", "kinematics", "dynamics", "dynamics_compiled", "jit", "collision", "planning", "transforms"},
-    "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},
-    "graphics": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},
-    "viewer": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
+    "kernels": {"model", "transforms"},  # the compiled model and shared kernels, below kinematics
+    "kinematics": {"model", "kernels", "transforms"},
+    "dynamics": {"model", "kernels", "kinematics", "transforms"},
+    "collision": {"model", "io", "kernels", "kinematics", "dynamics", "transforms"},
+    "control": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "planning",
+                "transforms"},  # the laws: never sim
+    "sim": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control",
+            "planning", "transforms"},  # the physics loop
+    "planning": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "transforms"},
+    "graphics": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
+                 "transforms"},
+    "viewer": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
                "transforms"},
-    "qt": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
-           "transforms"},
-    "app": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
-            "qt", "transforms"},
+    "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+           "viewer", "transforms"},
+    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+            "viewer", "qt", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
-    "PyQt5": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning",
-              "graphics", "viewer"},
-    "OpenGL": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning"},
+    "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+              "planning", "graphics", "viewer"},
+    "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+               "planning"},
 }
 
 

@@ -290,7 +290,7 @@ def pick_arguments(args: argparse.Namespace, robot: RobotParams) -> tuple[TaskPl
         raise CliError(str(exc)) from None
     if args.motion is None:
         return plan, None, None
-    from robot_sim.control.pick_run import simulate_pick
+    from robot_sim.sim.pick_run import simulate_pick
 
     try:
         run = simulate_pick(plan, args.motion)

@@ -18,7 +18,7 @@ from typing import Sequence
 
 import numpy as np
 
-from robot_sim.control.sweep import METRICS, MODES, sweep
+from robot_sim.sim.sweep import METRICS, MODES, sweep
 from robot_sim.io.files import FileError
 from robot_sim.io.robot_file import load_robot
 from robot_sim.model.params import RobotDefinitionError

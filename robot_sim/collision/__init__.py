@@ -1,5 +1,6 @@
 """Collision: signed distances between shapes, the robot's allowed pairs, batched
-configuration checks, continuous path checks and penalty contact for simulation.
+configuration checks and continuous path checks (penalty contact, which uses them, is
+the physics loop's: robot_sim/sim/contact.py).
 
 World frame, metres; signed distances are negative in penetration.  Imports neither
 graphics, Qt nor OpenGL.
@@ -8,7 +9,6 @@ from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphe
 from robot_sim.model.world import World
 
 from robot_sim.collision.checker import CollisionChecker, DistanceResult, PairContact
-from robot_sim.collision.contact import ContactForce, ContactModel
 
-__all__ = ["Box", "Capsule", "CollisionChecker", "ContactForce", "ContactModel", "Cylinder", "DistanceResult",
+__all__ = ["Box", "Capsule", "CollisionChecker", "Cylinder", "DistanceResult",
            "HalfSpace", "Mesh", "PairContact", "Sphere", "World"]

@@ -11,12 +11,12 @@ obstacles once per checker.
 """
 from __future__ import annotations
 
-import weakref
 from collections.abc import Iterable
 
 import numpy as np
 from numpy.typing import NDArray
 
+from robot_sim.kernels.model import per_robot
 from robot_sim.kinematics import characteristic_length
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 
@@ -25,9 +25,6 @@ from robot_sim.collision.scene import Scene
 
 SAMPLES = 1000
 SEED = 0
-
-_SELF_CACHE: "weakref.WeakKeyDictionary[RobotParams, dict]" = weakref.WeakKeyDictionary()
-
 
 class PairSet(frozenset):
     """A frozen set of name pairs (tuples) whose membership ignores the order:
@@ -92,13 +89,13 @@ def analyse(scene: Scene, padding: float, self_collision: bool,
                   if (scene.owner[i], scene.owner[j]) not in fixed_set]
     allowed = set(fixed)
     if self_collision:
-        per_robot = _SELF_CACHE.setdefault(robot, {})
+        always_self = per_robot(robot, "always_touching_self", lambda _robot: {})
         key = (padding, tuple(sorted(fixed)))
-        if key not in per_robot:
+        if key not in always_self:
             rows, groups, names = _grouped(scene, self_rows)
             always = always_touching(scene, rows, groups, len(names), padding)
-            per_robot[key] = frozenset(name for name, hit in zip(names, always) if hit)
-        allowed |= per_robot[key]
+            always_self[key] = frozenset(name for name, hit in zip(names, always) if hit)
+        allowed |= always_self[key]
     rows, groups, names = _grouped(scene, world_rows)
     always = always_touching(scene, rows, groups, len(names), padding)
     allowed |= {name for name, hit in zip(names, always) if hit}

@@ -3,9 +3,10 @@ moved to the world, broad phase and narrow phase for every checked pair.
 
 Inputs are plain arrays built once per checker (:class:`.model.CheckModel`):
 
-* ``dh`` (n, 6): per joint [revolute (1/0), a, cos α, sin α, d, θ] of the robot's DH
-  table (row i of a modified table holds a_{i-1}, α_{i-1}); ``modified`` its convention;
-  ``world0`` (4, 4) frame 0 in the world;
+* ``dh`` (n, NCOL): the robot's compiled model table (:mod:`robot_sim.kernels.model`; row
+  i of a modified table holds a_{i-1}, α_{i-1}), whose frames come from the one chain
+  kernel :func:`robot_sim.kernels.chain.frames`; ``modified`` its convention; ``world0``
+  (4, 4) frame 0 in the world;
 * ``link`` (S,): the link (0 base .. n) each robot shape is fixed to; ``local`` (S, REC)
   the shapes in their link frames; ``recs`` (S + O, REC) a work array whose rows S.. hold
   the obstacles in the world; ``kinds`` (S + O,); ``bc`` (S + O, 3) bounding-sphere
@@ -24,38 +25,9 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision._jit import JIT, njit
+from robot_sim.kernels.chain import frames
+from robot_sim.kernels.jit import JIT, njit
 from robot_sim.collision.narrow import pair_distance
-
-REVOLUTE, A, CA, SA, D, THETA = range(6)
-
-
-@njit(**JIT)
-def link_frames(q, dh, modified, world0, F):
-    """World frames 0..n (n+1, 3, 4) of joint vector q (n,) into F."""
-    n = q.shape[0]
-    for r in range(3):
-        for c in range(4):
-            F[0, r, c] = world0[r, c]
-    for j in range(n):
-        th = dh[j, THETA] + (q[j] if dh[j, REVOLUTE] > 0.5 else 0.0)
-        d = dh[j, D] + (0.0 if dh[j, REVOLUTE] > 0.5 else q[j])
-        ct, st, ca, sa, a = math.cos(th), math.sin(th), dh[j, CA], dh[j, SA], dh[j, A]
-        if modified:  # Rx(α) Tx(a) Rz(θ) Tz(d)
-            m00, m01, m02, m03 = ct, -st, 0.0, a
-            m10, m11, m12, m13 = st * ca, ct * ca, -sa, -sa * d
-            m20, m21, m22, m23 = st * sa, ct * sa, ca, ca * d
-        else:  # Rz(θ) Tz(d) Tx(a) Rx(α)
-            m00, m01, m02, m03 = ct, -st * ca, st * sa, a * ct
-            m10, m11, m12, m13 = st, ct * ca, -ct * sa, a * st
-            m20, m21, m22, m23 = 0.0, sa, ca, d
-        for r in range(3):
-            p0, p1, p2, p3 = F[j, r, 0], F[j, r, 1], F[j, r, 2], F[j, r, 3]
-            F[j + 1, r, 0] = p0 * m00 + p1 * m10 + p2 * m20
-            F[j + 1, r, 1] = p0 * m01 + p1 * m11 + p2 * m21
-            F[j + 1, r, 2] = p0 * m02 + p1 * m12 + p2 * m22
-            F[j + 1, r, 3] = p0 * m03 + p1 * m13 + p2 * m23 + p3
-
 
 @njit(**JIT)
 def place(F, link, local, recs, bc, wc):
@@ -91,7 +63,7 @@ def _workspace(dh, link, recs0, bc):
 
 @njit(**JIT)
 def _pose(q, dh, modified, world0, link, local, bc, F, recs, wc):
-    link_frames(q, dh, modified, world0, F)
+    frames(dh, modified, world0, q, F)
     place(F, link, local, recs, bc, wc)
 
 

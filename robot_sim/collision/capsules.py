@@ -24,11 +24,11 @@ the home pose is free of self-contact wherever the segments themselves do not me
 """
 from __future__ import annotations
 
-import weakref
 
 import numpy as np
 from numpy.typing import NDArray
 
+from robot_sim.kernels.model import per_robot
 from robot_sim.kinematics import characteristic_length, forward_kinematics
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.model.shapes import Capsule
@@ -44,8 +44,6 @@ RADIUS_FLOOR_FRAC = 0.003  # and after the clearance shrink never below this one
 CLEARANCE = 0.45  # at home: radius <= this * the gap to any non-adjacent link's segments
 UNLIMITED_STROKE_FRAC = 0.25  # stroke of a prismatic joint without both limits / the length
 MIN_SEGMENT = 1e-6  # m: shorter segments get no capsule
-
-_CACHE: "weakref.WeakKeyDictionary[RobotParams, tuple]" = weakref.WeakKeyDictionary()
 
 
 def _prismatic_travel(robot: RobotParams, length: float) -> tuple[FloatArray, FloatArray]:
@@ -106,10 +104,11 @@ def _capsule(p: FloatArray, q: FloatArray, radius: float) -> Capsule:
 def dh_capsules(robot: RobotParams) -> tuple[tuple[Capsule, ...], ...]:
     """Capsules along the DH segments (module docstring), a tuple of n + 1 tuples: index 0
     the base link posed in frame 0, index i link i posed in frame i.  Computed once per
-    robot."""
-    cached = _CACHE.get(robot)
-    if cached is not None:
-        return cached
+    robot (kept with its compiled model)."""
+    return per_robot(robot, "dh_capsules", _dh_capsules)
+
+
+def _dh_capsules(robot: RobotParams) -> tuple[tuple[Capsule, ...], ...]:
     n, length = robot.n_dofs, characteristic_length(robot)
     segments = dh_segments_local(robot)
     seg_len = np.zeros(n + 1)
@@ -131,6 +130,4 @@ def dh_capsules(robot: RobotParams) -> tuple[tuple[Capsule, ...], ...]:
     links: list[list[Capsule]] = [[] for _ in range(n + 1)]
     for k, p, q in segments:
         links[k].append(_capsule(p, q, float(radius[k])))
-    out = tuple(tuple(c) for c in links)
-    _CACHE[robot] = out
-    return out
+    return tuple(tuple(c) for c in links)

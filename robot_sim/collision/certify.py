@@ -35,7 +35,7 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision._jit import JIT, njit
+from robot_sim.kernels.jit import JIT, njit
 from robot_sim.collision.batch import _gap, _pose, _workspace
 from robot_sim.collision.narrow import pair_distance, to_local
 

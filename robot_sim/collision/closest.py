@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import math
 
-from robot_sim.collision._jit import JIT, njit
+from robot_sim.kernels.algebra import cross
+from robot_sim.kernels.jit import JIT, njit
 
 #: Squared length below which a segment is a point (m²).
 DEGENERATE_SQ = 1e-30
@@ -43,11 +44,6 @@ def madd(a, b, s):
 @njit(**JIT)
 def scale(a, s):
     return (a[0] * s, a[1] * s, a[2] * s)
-
-
-@njit(**JIT)
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
 @njit(**JIT)

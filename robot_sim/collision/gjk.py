@@ -18,8 +18,9 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision._jit import JIT, njit
-from robot_sim.collision.closest import add, any_perpendicular, cross, dot, madd, norm, scale, sub
+from robot_sim.kernels.jit import JIT, njit
+from robot_sim.collision.closest import add, any_perpendicular, dot, madd, norm, scale, sub
+from robot_sim.kernels.algebra import cross
 
 GJK_TOL = 1e-11  # m: distance bounds' gap at convergence
 GJK_MAX_ITER = 200

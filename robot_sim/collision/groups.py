@@ -22,6 +22,8 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from robot_sim.kernels.model import GEOMETRY
+
 from robot_sim.collision import certify
 from robot_sim.collision import layout as L
 from robot_sim.collision.checker import CHUNK, CollisionChecker
@@ -42,7 +44,7 @@ def _merged(checkers: Sequence[CollisionChecker]) -> tuple[tuple, IntArray, IntA
     first = checkers[0].scene
     for c in checkers[1:]:
         if c.robot.is_modified != first.robot.is_modified or not (
-                np.array_equal(c.scene.dh, first.dh) and np.array_equal(c.scene.world0, first.world0)):
+                np.array_equal(c.scene.dh[:, :GEOMETRY], first.dh[:, :GEOMETRY]) and np.array_equal(c.scene.world0, first.world0)):
             raise ValueError("checkers of different robots cannot be checked together")
     scenes = [c.scene for c in checkers]
     S = [s.n_robot for s in scenes]

@@ -11,11 +11,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.kernels import chain
+from robot_sim.kernels.model import compiled_model
+from robot_sim.model.params import RobotParams
 from robot_sim.model.shapes import Shape
 from robot_sim.model.world import World
 
-from robot_sim.collision import batch
 from robot_sim.collision.capsules import dh_capsules
 from robot_sim.collision.pack import pack
 
@@ -29,14 +30,6 @@ def link_shapes(robot: RobotParams) -> tuple[tuple[Shape, ...], ...]:
     if robot.base_collisions or any(links):
         return (tuple(robot.base_collisions),) + links + ((),) * (robot.n_dofs - len(links))
     return dh_capsules(robot)
-
-
-def dh_table(robot: RobotParams) -> FloatArray:
-    """The (n, 6) DH table of :mod:`.batch`."""
-    return np.ascontiguousarray(np.column_stack([
-        (robot.jtype == JTYPE_REVOLUTE).astype(float), robot.dh_a, np.cos(robot.dh_alpha),
-        np.sin(robot.dh_alpha), robot.dh_d, robot.dh_th,
-    ]))
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,7 +78,7 @@ def build_scene(robot: RobotParams, world: World) -> Scene:
     S = len(link)
     return Scene(
         robot=robot, world=world, shapes=tuple(shapes), owner=tuple(owner),
-        link=np.array(link, dtype=np.int64), dh=dh_table(robot),
+        link=np.array(link, dtype=np.int64), dh=compiled_model(robot).table,
         world0=np.ascontiguousarray(robot.base_tf.mat, dtype=float), kinds=packed.kinds,
         local=np.ascontiguousarray(packed.recs[:S]), recs0=np.ascontiguousarray(packed.recs),
         bc=np.ascontiguousarray(packed.bound_center), br=packed.bound_radius, verts=packed.verts,
@@ -95,7 +88,7 @@ def build_scene(robot: RobotParams, world: World) -> Scene:
 def frames(scene: Scene, q: FloatArray) -> FloatArray:
     """World frames 0..n (n + 1, 4, 4) at q (n,), from the compiled chain."""
     F = np.empty((scene.robot.n_dofs + 1, 3, 4))
-    batch.link_frames(q, scene.dh, scene.robot.is_modified, scene.world0, F)
+    chain.frames(scene.dh, scene.robot.is_modified, scene.world0, q, F)
     out = np.zeros((F.shape[0], 4, 4))
     out[:, :3, :] = F
     out[:, 3, 3] = 1.0

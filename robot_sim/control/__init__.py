@@ -1,3 +1,5 @@
-"""Controllers (joint space) and the physics loop (:class:`~robot_sim.control.simulation.Simulation`).
-Never imports graphics, viewer, qt or app.
+"""Control laws: joint-space controllers (passive, PD, PD + gravity, computed torque) and
+task-space ones (operational space, impedance, resolved rate), their gains and the
+desired values they follow.  The physics loop that integrates them is robot_sim/sim/.
+Never imports sim, graphics, viewer, qt or app.
 """

@@ -4,7 +4,7 @@ Every controller has one method, :meth:`Controller.torque`, taking the current j
 vector ``q`` and velocity ``qd`` and the desired ``q_des``, ``qd_des``, ``qdd_des`` (all
 (n,), radians / metres and their rates) and returning the commanded joint effort (n,)
 [N·m for revolute joints, N for prismatic ones].  Effort limits are applied afterwards by
-the simulation (see robot_sim/control/simulation.py), not here.
+the simulation (see robot_sim/sim/simulation.py), not here.
 
 * :class:`Passive` – zero effort: the arm falls under gravity (and friction).
 * :class:`PD` – ``τ = Kp (q_des − q) + Kd (qd_des − qd)``.
@@ -29,12 +29,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.kernels import status
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -125,6 +126,42 @@ def control_gains(
     return Gains(kp=kp_arr, kd=kd_arr, omega=omega, zeta=zeta)
 
 
+@dataclass(frozen=True)
+class StepContext:
+    """What a controller integrating its own law over one step is given: the step's start
+    time ``t`` and length ``h`` [s], the ``integrator`` ("rk4" or "euler"), the desired
+    values as a function of time ``desired_at`` (in the controller's space) and at ``t``
+    (``desired``), the drives' effort ``limit`` (n,) [N·m or N], the loop's one-arm ``stepper`` (the compiled step of
+    the simulated robot: ``robot_sim.sim.stepper.Stepper``), whether the joint limits are
+    ``stops``, and whether some joint starts ``on_stop``."""
+
+    t: float
+    h: float
+    integrator: str
+    desired_at: Callable[[float], tuple]
+    desired: tuple
+    limit: FloatArray
+    stepper: Any
+    stops: bool
+    on_stop: bool
+
+
+class Integrated(NamedTuple):
+    """A step a controller integrated itself: (q, q̇) at its end, q̈, the commanded
+    effort at its start (n,), and the step's ``status`` (:mod:`robot_sim.kernels.status`:
+    OK, ON_LIMIT, CROSSED — then (q, q̇) is the free trial step the loop resolves the stops
+    from — or AT_STOP — not stepped); with the stops held inside the step, their
+    ``reaction`` at the start and the joints ``at_limit`` at the end (else None)."""
+
+    q: FloatArray
+    qd: FloatArray
+    qdd: FloatArray
+    command: FloatArray
+    status: int
+    reaction: FloatArray | None = None
+    at_limit: NDArray[np.bool_] | None = None
+
+
 class Controller:
     """Interface: ``torque(q, qd, q_des, qd_des, qdd_des)`` → commanded joint effort (n,)."""
 
@@ -136,6 +173,8 @@ class Controller:
     #: True for a continuous-time law the simulation evaluates at every integration stage;
     #: False for a sampled one, whose effort is held over each step.
     continuous = False
+    #: True when :meth:`integrate` may take a whole step (the loop skips asking otherwise).
+    integrates = False
 
     def reset(self, q: FloatArray, dt: float) -> None:
         """Start a run at joint values ``q`` with control period ``dt`` [s]: controllers
@@ -152,12 +191,12 @@ class Controller:
         torque does: it is the reference acceleration), else None."""
         return None
 
-    def integrate(self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
-                  desired_at: Any, limit: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, bool] | None:
-        """A continuous controller may integrate its own closed loop over one step on its
-        model (see ``OperationalSpace.integrate``): (q, q̇) after it, the acceleration and
-        the effort at its start, and whether it ended beyond the joint limits; None (the
-        default) lets the simulation step it stage by stage."""
+    def integrate(self, q: FloatArray, qd: FloatArray, step: StepContext) -> Integrated | None:
+        """The one way a controller integrates its own law over a step: the whole step
+        from (q, q̇) (n,) in one call (its law inside the compiled step: computed torque
+        through the loop's stepper, operational space in its own kernel), or None (the
+        default), and the loop evaluates :meth:`torque` (at every stage when
+        :attr:`continuous`) and steps the dynamics itself."""
         return None
 
     def acceleration(self, q: FloatArray, qd: FloatArray, *desired: FloatArray) -> FloatArray | None:
@@ -213,6 +252,7 @@ class ComputedTorque(Controller):
     friction included when the file gives drives)."""
 
     mode = "ct"
+    integrates = True
 
     def __init__(self, robot: RobotParams, gains: Gains) -> None:
         self.robot = robot
@@ -229,3 +269,22 @@ class ComputedTorque(Controller):
     def commanded_acceleration(self) -> FloatArray | None:
         """The reference acceleration of the last :meth:`torque` (exact on the model)."""
         return self._qdd_ref
+
+    def integrate(self, q: FloatArray, qd: FloatArray, step: StepContext) -> Integrated | None:
+        """The law inside the compiled step (``Stepper.step_computed_torque``: the same
+        bits as :meth:`torque`, the clip and the step in turn) when the loop's stepper
+        steps this controller's own robot model; None for a command that is not finite
+        (:meth:`torque` then says why)."""
+        stepper = step.stepper
+        if stepper is None or stepper.robot is not self.robot:
+            return None
+        desired = step.desired
+        q_des, qd_des, qdd_des = desired
+        if not type(q_des) is type(qd_des) is type(qdd_des) is np.ndarray:  # a reference's lists
+            q_des, qd_des, qdd_des = (np.asarray(x, dtype=float) for x in desired)
+        out = stepper.step_computed_torque(q[None], qd[None], q_des[None], qd_des[None], qdd_des[None], self.kp,
+                                           self.kd, step.limit, stops=step.stops)
+        if out.status[0] == status.BAD_EFFORT:
+            return None
+        return Integrated(out.q[0].copy(), out.qd[0].copy(), out.qdd[0].copy(), out.command[0].copy(),
+                          int(out.status[0]), out.reaction[0].copy(), out.at_limit[0].copy())

@@ -41,17 +41,19 @@ This module imports neither OpenGL nor Qt.
 from __future__ import annotations
 
 import math
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
-from robot_sim.control.controllers import ComputedTorque, Controller, Gains, control_gains
+from robot_sim.control.controllers import ComputedTorque, Controller, Gains, Integrated, StepContext, control_gains
 from robot_sim.control.task_error import rotation_command, rotation_logs
+from robot_sim.kernels import status
+from robot_sim.kernels.model import compiled_model
 from robot_sim.kinematics import characteristic_length, task_rows, tool_kinematics
 from robot_sim.model.messages import clip_repr
-from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
+from robot_sim.model.params import RobotParams
 from robot_sim.transforms import rotation_log
 
 FloatArray = NDArray[np.float64]
@@ -241,6 +243,8 @@ class OperationalSpace(TaskSpaceController):
     one smooth function.
     """
 
+    integrates = True  # its closed loop over a step in one compiled call (:meth:`integrate`)
+
     mode = "osc"
 
     def __init__(self, robot: RobotParams, gains: Gains, null_space: Any = "home") -> None:
@@ -255,31 +259,28 @@ class OperationalSpace(TaskSpaceController):
         self._step_kernel: tuple | None = None
 
     def _step_parts(self) -> tuple:
-        """(osc_step, dynamics table, frame-0 gravity, kinematic table, modified, base,
-        tool, rows), made on first use."""
+        """(osc_step, model table, frame-0 gravity, modified, base, tool, rows), made on
+        first use."""
         if self._step_kernel is None:
             from robot_sim.control import task_space_compiled as tc
 
             _, table, g0 = dynamics.compiled_kernels(self.robot)
-            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[1:])
+            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[2:])
         return self._step_kernel
 
-    def integrate(
-        self, q: FloatArray, qd: FloatArray, t: float, h: float, integrator: str,
-        desired_at: Callable[[float], tuple], limit: FloatArray,
-    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, bool] | None:
-        """One step of length ``h`` [s] of the closed loop on this controller's model from
-        (q, q̇) (n,) at time ``t``, by ``integrator`` ("rk4" or "euler") with the law
-        evaluated at every stage on ``desired_at(stage time)``: (q, q̇) after it, the
-        acceleration and the effort [N·m or N] at its start, and whether the step ended
-        beyond the robot's joint limits.  One compiled call (task_space_compiled.osc_step);
-        None where it does not apply (the NumPy backend, non-finite values, an effort
-        beyond ``limit`` (n,) at some stage): then the caller steps the law stage by
-        stage."""
+    def integrate(self, q: FloatArray, qd: FloatArray, step: StepContext) -> Integrated | None:
+        """One step of length ``step.h`` [s] of the closed loop on this controller's model
+        from (q, q̇) (n,) at time ``step.t``, by ``step.integrator`` with the law evaluated
+        at every stage on the desired values at the stage's time: one compiled call
+        (task_space_compiled.osc_step), its status OK, or CROSSED when the step ended
+        beyond the robot's joint limits.  None where it does not apply (a joint starting
+        on a stop, the NumPy backend, non-finite values, an effort beyond ``step.limit``
+        at some stage): then the loop steps the law stage by stage."""
         n = self.robot.n_dofs
-        if dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
+        if step.on_stop or dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
             return None
-        step, table, g0, K, modified, base, tool, rows = self._step_parts()
+        kernel, table, g0, modified, base, tool, rows = self._step_parts()
+        t, h, desired_at, limit = step.t, step.h, step.desired_at, step.limit
         desired = (desired_at(t), desired_at(t + 0.5 * h), desired_at(t + h))
         fixed = desired[1] is desired[0] and desired[2] is desired[0]
         if fixed and self._packed is not None and self._packed[0] is desired[0]:
@@ -293,13 +294,13 @@ class OperationalSpace(TaskSpaceController):
         q1, qd1, a1, tau, e = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(rows.shape[0])
         if self._limit is None or self._limit[0] is not limit:
             self._limit = (limit, np.ascontiguousarray(limit, dtype=float), bool(np.isfinite(limit).any()))
-        status = step(table, g0, self._limit[1], self._limit[2], K, modified, base, tool, rows, self.weights,
-                      integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
-                      self.eps_inertia, self.robot.q_min, self.robot.q_max, q1, qd1, a1, tau, e)
-        if status not in (0, 3):
+        result = kernel(table, g0, self._limit[1], self._limit[2], modified, base, tool, rows, self.weights,
+                        step.integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
+                        self.eps_inertia, self.robot.q_min, self.robot.q_max, q1, qd1, a1, tau, e)
+        if result not in (0, 3):
             return None
         self.error, self._qdd = e, a1
-        return q1, qd1, a1, tau, status == 3
+        return Integrated(q1, qd1, a1, tau, status.CROSSED if result == 3 else status.OK)
 
     def _pack(self, desired: tuple) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         """TD (3, 4, 4), VD, AD (3, 6) and the posture's POST (3, 3, n) of three desired values."""
@@ -316,15 +317,14 @@ class OperationalSpace(TaskSpaceController):
         return TD, VD, AD, POST
 
     def _kernel_parts(self) -> tuple:
-        """(osc_one, kinematic table, modified, base, tool, rows) of the compiled law, made
+        """(osc_one, model table, modified, base, tool, rows) of the compiled law, made
         on first use (numba is imported then)."""
         if self._kernel is None:
             from robot_sim.control import task_space_compiled as tc
 
-            r = self.robot
-            table = tc.kinematic_table(r.jtype == JTYPE_REVOLUTE, r.dh_th, r.dh_d, r.dh_a, np.cos(r.dh_alpha), np.sin(r.dh_alpha))
-            self._kernel = (tc.osc_one, table, bool(r.is_modified), np.ascontiguousarray(r.base_tf.mat),
-                            np.ascontiguousarray(r.tool_tf.mat), np.ascontiguousarray(self.rows, dtype=np.int64))
+            model = compiled_model(self.robot)
+            self._kernel = (tc.osc_one, model.table, model.modified, model.base, model.tool,
+                            np.ascontiguousarray(self.rows, dtype=np.int64))
         return self._kernel
 
     def _compiled(self, q: Any, qd: Any, pose_d: Any, twist_d: Any, accel_d: Any, joints: Any, lam2: float):

@@ -2,15 +2,16 @@
 
 The same algorithm as :meth:`robot_sim.control.task_space.OperationalSpace._law` (the
 NumPy code, which stays the reference the tests compare against): the chain walk to the
-joint axes and the tool, J and J̇q̇, the task error and the log-map rotation command, and
+joint axes and the tool, J and J̇q̇ (the shared chain kernels of ``robot_sim.kernels.chain``), the task error and the log-map rotation command, and
 the solve for q̈.  The solve uses the Schur complement of the same KKT system,
 ``X = M⁻¹ Jᵀ``, ``F = (J X + λ² W⁻²)⁻¹ (a − J̇q̇ − J q̈₀)``, ``q̈ = q̈₀ + X F``, by Cholesky
 factorisations.  M and the bias torque come from the compiled dynamics kernels
-(``dynamics_compiled``), called from here.
+(``dynamics.compiled``), called from here.
 
 Imported on first use only (numba takes about half a second to import), compiled once per
-machine (``cache=True``, the settings of ``robot_sim.jit``).  This module imports numpy, numba,
-the compiled dynamics kernels and the package numba settings only.
+machine (``cache=True``, the settings of ``robot_sim.kernels.jit``).  ``P`` is the robot's
+compiled model table (``robot_sim.kernels.model``).  This module imports numpy, numba, the
+compiled dynamics kernels and the kernels layer only.
 """
 from __future__ import annotations
 
@@ -19,11 +20,11 @@ import math
 import numpy as np
 from numba import njit
 
-from robot_sim.dynamics_compiled import crba_batch, rnea_batch
-from robot_sim.jit import JIT
+from robot_sim.dynamics.compiled import crba_batch, rnea_batch
+from robot_sim.kernels.algebra import cholesky, cross, euler_combine, rk4_combine, rk4_stage, solve_factored
+from robot_sim.kernels.chain import frames, jacobian_and_bias, tool_pose
+from robot_sim.kernels.jit import JIT
 
-# Columns of the kinematic table K (n, 6).
-REV, TH, D, A, CA, SA = range(6)
 #: Angle [rad] below which the SO(3) coefficients use their series (as task_error).
 SERIES_ANGLE = 0.1
 _NEAR_PI_SIN = 1e-3
@@ -31,99 +32,6 @@ _NEAR_PI_SIN = 1e-3
 #: off-diagonal square sum is below (1e-16)^2 of the matrix's.
 JACOBI_SWEEPS = 30
 JACOBI_TOL2 = 1e-32
-
-
-def kinematic_table(revolute: np.ndarray, theta: np.ndarray, d: np.ndarray, a: np.ndarray,
-                    cos_alpha: np.ndarray, sin_alpha: np.ndarray) -> np.ndarray:
-    """K (n, 6): joint type (1 revolute), DH θ and d offsets [rad, m], a [m], cos α, sin α."""
-    return np.ascontiguousarray(np.stack([np.asarray(revolute, dtype=float), theta, d, a, cos_alpha, sin_alpha], axis=1))
-
-
-@njit(**JIT)
-def _chain(K, modified, base, tool, q, Z, Pj, T):
-    """Joint axes Z[j] and axis points Pj[j] (world), and the tool pose into T (4, 4)."""
-    n = K.shape[0]
-    X = base[:3, 0].copy()
-    Y = base[:3, 1].copy()
-    Zc = base[:3, 2].copy()
-    P = base[:3, 3].copy()
-    for j in range(n):
-        rev = K[j, REV] != 0.0
-        th = K[j, TH] + q[j] if rev else K[j, TH]
-        d = K[j, D] if rev else K[j, D] + q[j]
-        c, s, ca, sa, a = math.cos(th), math.sin(th), K[j, CA], K[j, SA], K[j, A]
-        if not modified:
-            Z[j, :] = Zc
-            Pj[j, :] = P
-        for k in range(3):
-            if modified:
-                y, z = ca * Y[k] + sa * Zc[k], ca * Zc[k] - sa * Y[k]
-                P[k] += a * X[k]
-                x = c * X[k] + s * y
-                y = c * y - s * X[k]
-                X[k], Y[k], Zc[k] = x, y, z
-                P[k] += d * z
-            else:
-                x = c * X[k] + s * Y[k]
-                y = c * Y[k] - s * X[k]
-                P[k] += d * Zc[k] + a * x
-                Y[k], Zc[k] = ca * y + sa * Zc[k], ca * Zc[k] - sa * y
-                X[k] = x
-        if modified:
-            Z[j, :] = Zc
-            Pj[j, :] = P
-    for r in range(3):
-        for k in range(3):
-            T[r, k] = X[r] * tool[0, k] + Y[r] * tool[1, k] + Zc[r] * tool[2, k]
-        T[r, 3] = P[r] + X[r] * tool[0, 3] + Y[r] * tool[1, 3] + Zc[r] * tool[2, 3]
-        T[3, r] = 0.0
-    T[3, 3] = 1.0
-
-
-@njit(**JIT)
-def _jacobian_and_bias(K, Z, Pj, pe, qd, J, jd):
-    """J (6, n) and J̇q̇ (6,) as kinematics._jacobian_and_bias."""
-    n = K.shape[0]
-    wx = wy = wz = cx = cy = cz = 0.0
-    U = np.empty((n, 3))
-    DU = np.empty((n, 3))
-    PD = np.empty((n, 3))
-    for j in range(n):
-        ux, uy, uz = Z[j, 0] * qd[j], Z[j, 1] * qd[j], Z[j, 2] * qd[j]
-        px, py, pz = Pj[j, 0], Pj[j, 1], Pj[j, 2]
-        U[j, 0], U[j, 1], U[j, 2] = ux, uy, uz
-        DU[j, 0], DU[j, 1], DU[j, 2] = wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux
-        PD[j, 0], PD[j, 1], PD[j, 2] = wy * pz - wz * py + cx, wz * px - wx * pz + cy, wx * py - wy * px + cz
-        if K[j, REV] != 0.0:
-            wx, wy, wz = wx + ux, wy + uy, wz + uz
-            cx, cy, cz = cx - (uy * pz - uz * py), cy - (uz * px - ux * pz), cz - (ux * py - uy * px)
-        else:
-            cx, cy, cz = cx + ux, cy + uy, cz + uz
-    ex, ey, ez = pe[0], pe[1], pe[2]
-    vx, vy, vz = wy * ez - wz * ey + cx, wz * ex - wx * ez + cy, wx * ey - wy * ex + cz
-    for k in range(6):
-        jd[k] = 0.0
-    for j in range(n):
-        zx, zy, zz = Z[j, 0], Z[j, 1], Z[j, 2]
-        dx, dy, dz = DU[j, 0], DU[j, 1], DU[j, 2]
-        if K[j, REV] != 0.0:
-            lx, ly, lz = ex - Pj[j, 0], ey - Pj[j, 1], ez - Pj[j, 2]
-            J[0, j], J[1, j], J[2, j] = zy * lz - zz * ly, zz * lx - zx * lz, zx * ly - zy * lx
-            J[3, j], J[4, j], J[5, j] = zx, zy, zz
-            rx, ry, rz = vx - PD[j, 0], vy - PD[j, 1], vz - PD[j, 2]
-            ux, uy, uz = U[j, 0], U[j, 1], U[j, 2]
-            jd[0] += dy * lz - dz * ly + uy * rz - uz * ry
-            jd[1] += dz * lx - dx * lz + uz * rx - ux * rz
-            jd[2] += dx * ly - dy * lx + ux * ry - uy * rx
-            jd[3] += dx
-            jd[4] += dy
-            jd[5] += dz
-        else:
-            J[0, j], J[1, j], J[2, j] = zx, zy, zz
-            J[3, j] = J[4, j] = J[5, j] = 0.0
-            jd[0] += dx
-            jd[1] += dy
-            jd[2] += dz
 
 
 @njit(**JIT)
@@ -180,7 +88,8 @@ def _mv(A, x, out):
 
 @njit(**JIT)
 def _cr(a, b):
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+    """a × b of two (3,) arrays as an array."""
+    return np.array(cross(a, b))
 
 
 @njit(**JIT)
@@ -200,25 +109,6 @@ def _rotation_command(Re, phi, omega, omega_d, alpha_d, kp, kd, out):
         - (rate * da * p_d + rate * db * _cr(phi, p_d) + b * _cr(phi_dot, p_d))
     for k in range(3):
         out[k] = Re[0, k] * rhs[0] + Re[1, k] * rhs[1] + Re[2, k] * rhs[2]
-
-
-@njit(**JIT)
-def _cholesky(A):
-    """Lower Cholesky factor of A in place; False if A is not positive definite."""
-    n = A.shape[0]
-    for j in range(n):
-        diag = A[j, j]
-        for k in range(j):
-            diag -= A[j, k] * A[j, k]
-        if not diag > 0.0:
-            return False
-        A[j, j] = math.sqrt(diag)
-        for i in range(j + 1, n):
-            acc = A[i, j]
-            for k in range(j):
-                acc -= A[i, k] * A[j, k]
-            A[i, j] = acc / A[j, j]
-    return True
 
 
 @njit(**JIT)
@@ -258,23 +148,7 @@ def _smallest_eigenvalue(W):
 
 
 @njit(**JIT)
-def _solve(L, b, x):
-    """x with L Lᵀ x = b."""
-    n = L.shape[0]
-    for i in range(n):
-        acc = b[i]
-        for k in range(i):
-            acc -= L[i, k] * x[k]
-        x[i] = acc / L[i, i]
-    for i in range(n - 1, -1, -1):
-        acc = x[i]
-        for k in range(i + 1, n):
-            acc -= L[k, i] * x[k]
-        x[i] = acc / L[i, i]
-
-
-@njit(**JIT)
-def osc_one(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
+def osc_one(P, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
     """The OSC law at (q, q̇): q̈ into ``qdd``, τ − b = M q̈ into ``task``, the task error
     into ``e`` (m,); returns λ² (computed from W J M⁻¹ Jᵀ W when ``lam2`` < 0, else
     ``lam2``), or NaN when an input is not finite or the system cannot be solved."""
@@ -286,17 +160,18 @@ def osc_one(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, 
         for k in range(4):
             if not math.isfinite(Td[r, k]):
                 return math.nan
-    return _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e)
+    return _law(P, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e)
 
 
 @njit(**JIT)
-def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
+def _law(P, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp, kd, lam2, eps, qdd, task, e):
     """:func:`osc_one` without the input checks."""
-    n, m = K.shape[0], rows.shape[0]
-    Z, Pj, T = np.empty((n, 3)), np.empty((n, 3)), np.empty((4, 4))
-    _chain(K, modified, base, tool, q, Z, Pj, T)
+    n, m = P.shape[0], rows.shape[0]
+    chain, T = np.empty((n + 1, 3, 4)), np.empty((4, 4))
+    frames(P, modified, base, q, chain)
+    tool_pose(chain, tool, T)
     J, jd = np.empty((6, n)), np.empty(6)
-    _jacobian_and_bias(K, Z, Pj, T[:3, 3], qd, J, jd)
+    jacobian_and_bias(P, modified, chain, T[:3, 3], qd, J, jd)
     twist = np.empty(6)
     _mv(J, qd, twist)
     accel = np.empty(6)
@@ -325,12 +200,12 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
             acc += J[rows[i], j] * qdd0[j]
         goal[i] = accel[rows[i]] - jd[rows[i]] - acc
     L = M.copy()
-    if not _cholesky(L):
+    if not cholesky(L):
         return math.nan
     X = np.empty((n, m))
     col = np.empty(n)
     for i in range(m):
-        _solve(L, Jr[i], col)
+        solve_factored(L, Jr[i], col)
         X[:, i] = col
     S = np.empty((m, m))
     for i in range(m):
@@ -345,7 +220,7 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
             for k in range(m):
                 W[i, k] = S[i, k] * weights[i] * weights[k]
             W[i, i] -= eps
-        if _cholesky(W):  # s_min > ε: no damping, without the eigenvalues (the usual case)
+        if cholesky(W):  # s_min > ε: no damping, without the eigenvalues (the usual case)
             lam2 = 0.0
         else:
             for i in range(m):
@@ -354,10 +229,10 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
             lam2 = max(eps - _smallest_eigenvalue(W), 0.0)
     for i in range(m):
         S[i, i] += lam2 / (weights[i] * weights[i])
-    if not _cholesky(S):
+    if not cholesky(S):
         return math.nan
     F = np.empty(m)
-    _solve(S, goal, F)
+    solve_factored(S, goal, F)
     for j in range(n):
         acc = qdd0[j]
         for i in range(m):
@@ -368,7 +243,7 @@ def _law(K, modified, base, tool, rows, weights, q, qd, Td, Vd, Ad, M, qdd0, kp,
 
 
 @njit(**JIT)
-def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h, q, qd, TD, VD, AD, POST,
+def osc_step(P, g0, limit, check, modified, base, tool, rows, weights, rk4, h, q, qd, TD, VD, AD, POST,
              use_posture, kp, kd, eps, lo, hi, q1, qd1, a1, tau, e):
     """One integration step of the OSC closed loop from (q, q̇), the law evaluated at every
     stage on the desired values at the stage's time: TD (3, 4, 4), VD, AD (3, 6) at the
@@ -381,7 +256,7 @@ def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h
     cannot be solved, 2 when a stage's effort exceeds ``limit`` (n,) (the caller then
     saturates it step by step; checked only when ``check``), 3 when the step ends beyond
     the joint limits ``lo``, ``hi`` (n,) (the caller resolves the stops)."""
-    n = K.shape[0]
+    n = P.shape[0]
     for v in (q, qd):
         for x in v:
             if not math.isfinite(x):
@@ -408,21 +283,14 @@ def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h
     acc = np.empty((4, n))
     lam2 = -1.0
     for k in range(stages):
-        if k == 1:
-            for j in range(n):
-                qs[j], vs[j] = q[j] + 0.5 * h * qd[j], qd[j] + 0.5 * h * acc[0, j]
-        elif k == 2:
-            for j in range(n):
-                qs[j], vs[j] = q[j] + 0.5 * h * (qd[j] + 0.5 * h * acc[0, j]), qd[j] + 0.5 * h * acc[1, j]
-        elif k == 3:
-            for j in range(n):
-                qs[j], vs[j] = q[j] + h * (qd[j] + 0.5 * h * acc[1, j]), qd[j] + h * acc[2, j]
+        if k > 0:  # stage state: v_k = v + step·a_{k−1}, q_k = q + step·v_{k−1}
+            rk4_stage(h if k == 3 else 0.5 * h, q, qd, acc[k - 1], qd if k == 1 else vs, qs, vs)
         i = times[k]
         for j in range(n):
             qdd0[j] = (POST[i, 2, j] + kp * (POST[i, 0, j] - qs[j]) + kd * (POST[i, 1, j] - vs[j])) if use_posture else 0.0
         Q[0, :], QDs[0, :] = qs, vs
         crba_batch(P, Q, MM)
-        lam2 = _law(K, modified, base, tool, rows, weights, qs, vs, TD[i], VD[i], AD[i], MM[0], qdd0, kp, kd,
+        lam2 = _law(P, modified, base, tool, rows, weights, qs, vs, TD[i], VD[i], AD[i], MM[0], qdd0, kp, kd,
                     lam2, eps, acc[k], task, err)
         if math.isnan(lam2):
             return 1
@@ -438,17 +306,11 @@ def osc_step(P, g0, limit, check, K, modified, base, tool, rows, weights, rk4, h
                 tau[j] = effort
         if k == 0:
             e[:] = err
-    for j in range(n):
-        a1[j] = acc[0, j]
-        if rk4:
-            v2 = qd[j] + 0.5 * h * acc[0, j]
-            v3 = qd[j] + 0.5 * h * acc[1, j]
-            v4 = qd[j] + h * acc[2, j]
-            q1[j] = q[j] + (h / 6.0) * (qd[j] + 2.0 * (v2 + v3) + v4)
-            qd1[j] = qd[j] + (h / 6.0) * (acc[0, j] + 2.0 * (acc[1, j] + acc[2, j]) + acc[3, j])
-        else:
-            qd1[j] = qd[j] + h * acc[0, j]
-            q1[j] = q[j] + h * qd1[j]
+    a1[:] = acc[0]
+    if rk4:
+        rk4_combine(h, q, qd, acc[0], acc[1], acc[2], acc[3], q1, qd1)
+    else:
+        euler_combine(h, q, qd, acc[0], q1, qd1)
     for j in range(n):
         if q1[j] < lo[j] or q1[j] > hi[j]:
             return 3

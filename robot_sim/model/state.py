@@ -54,13 +54,15 @@ class JointState:
     def __init__(self, jtype: ArrayLike) -> None:
         self.jtype = np.asarray(jtype, dtype=np.int64).copy()
         n = self.jtype.shape[0]
-        self.th = np.zeros(n)
-        self.thd = np.zeros(n)
-        self.thdd = np.zeros(n)
-        self.d = np.zeros(n)
-        self.dd = np.zeros(n)
-        self.ddd = np.zeros(n)
-        self.u = np.zeros(n)
+        # one buffer, the fields its rows: θ, d, their rates and accelerations first, so that
+        # one slice (:meth:`motion_snapshot`) tells whether q or q̇ (or q̈) changed
+        self._rows = np.zeros((7, n))
+        self.th, self.d, self.thd, self.dd, self.thdd, self.ddd, self.u = self._rows
+
+    def motion_snapshot(self, accelerations: bool = False) -> bytes:
+        """The bytes of θ, d, θ̇ and ḋ (and θ̈, d̈ with ``accelerations``): equal snapshots
+        mean the joint values and rates (and accelerations) are the same."""
+        return self._rows[: 6 if accelerations else 4].tobytes()
 
     @property
     def n(self) -> int:
@@ -116,6 +118,9 @@ class RobotState:
     def __init__(self, robot_params: RobotParams) -> None:
         self.robot = robot_params
         self._revolute = robot_params.jtype == JTYPE_REVOLUTE
+        self._all_revolute = bool(self._revolute.all())
+        self._revolute_index = np.flatnonzero(self._revolute)
+        self._prismatic_index = np.flatnonzero(~self._revolute)
         self.joint_state = JointState(robot_params.jtype)
         self.joint_state_des = JointState(robot_params.jtype)
         for state in (self.joint_state, self.joint_state_des):
@@ -188,6 +193,32 @@ class RobotState:
     def set_qd_des(self, values: ArrayLike) -> None:
         """Set the desired joint velocities (validated like :meth:`set_q`)."""
         self._set_rate_of(self.joint_state_des, values, "qd_des", _VELOCITY)
+
+    def write_motion(self, q: FloatArray, qd: FloatArray, qdd: FloatArray, u: FloatArray) -> None:
+        """Set the current q, q̇, q̈ and the actuation u from float (n,) arrays the caller
+        knows to be finite (the physics loop's own state): the same values as
+        :meth:`set_q`, :meth:`set_qd`, :meth:`set_qdd` and ``joint_state.set_u``, without
+        their checks."""
+        js = self.joint_state
+        if self._all_revolute:  # θ = offset + q, d the offsets, the rates θ̇ and θ̈
+            np.add(self.robot.dh_th, q, out=js.th)
+            js.d[:] = self.robot.dh_d
+            js.thd[:] = qd
+            js.thdd[:] = qdd
+            js.dd.fill(0.0)
+            js.ddd.fill(0.0)
+        else:  # as np.where(revolute, ...) writes them
+            rev, pri = self._revolute_index, self._prismatic_index
+            np.add(self.robot.dh_th, q, out=js.th)
+            js.th[pri] = self.robot.dh_th[pri]
+            np.add(self.robot.dh_d, q, out=js.d)
+            js.d[rev] = self.robot.dh_d[rev]
+            for th_rate, d_rate, rate in ((js.thd, js.dd, qd), (js.thdd, js.ddd, qdd)):
+                th_rate[:] = rate
+                th_rate[pri] = 0.0
+                d_rate[:] = rate
+                d_rate[rev] = 0.0
+        js.u[:] = u
 
     def qdd_des(self) -> FloatArray:
         """Desired joint accelerations (n,) (the feed-forward of computed-torque control)."""

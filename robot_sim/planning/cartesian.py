@@ -10,7 +10,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.planning.profiles import _parabolic, check_duration, joint_vector, plan_times
 from robot_sim.planning.trajectory import FloatArray, Trajectory
-from robot_sim.kinematics import _target_matrix, forward_kinematics, jacobian, solve_ik
+from robot_sim.kinematics import forward_kinematics, jacobian, solve_ik
+from robot_sim.kinematics.ik import _target_matrix
 from robot_sim.model.params import RobotParams
 from robot_sim.transforms import rotation_log, rpy_from_rot
 

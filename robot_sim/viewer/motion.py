@@ -7,7 +7,7 @@ simulation of one robot and its :class:`~robot_sim.model.state.RobotState`.  In 
 state's desired values (sliders, IK ghost, demo) are the controller's set point and the
 current values are simulated; the mouse can pull the endeffector with a spring
 (:meth:`Motion.start_pull`).  Simulated links rest on the world's obstacles and the
-floor (penalty contact with friction, ``collision.contact``).  A robot file without inertial data is simulated with
+floor (penalty contact with friction, ``sim.contact``).  A robot file without inertial data is simulated with
 ``robot_sim.model.estimate.estimate_inertials`` and :attr:`Motion.estimated` says so.
 
 Units: SI (rad, m, s, N, N·m); points in the world frame.
@@ -30,7 +30,7 @@ from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
 from robot_sim.model.world import World
-from robot_sim.control.simulation import LimitEvent, Simulation
+from robot_sim.sim.simulation import LimitEvent, Simulation
 
 FloatArray = NDArray[np.float64]
 

@@ -35,7 +35,7 @@ from robot_sim.viewer.drivers.circle import CircleDriver, DemoCircle
 from robot_sim.viewer.trail import Trail
 
 if TYPE_CHECKING:  # these pull the planner, the checker and the simulation (numba): loaded on use
-    from robot_sim.control.simulation import LimitEvent
+    from robot_sim.sim.stops import LimitEvent
     from robot_sim.planning.pick_task import TaskPlan
     from robot_sim.viewer.collision_display import CollisionDisplay
     from robot_sim.viewer.motion import Motion

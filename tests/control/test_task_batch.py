@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from kin_helpers import robot
-from robot_sim.control.batch import BatchSimulation
+from robot_sim.sim.batch import BatchSimulation
 from robot_sim.control.controllers import control_gains
 from robot_sim.control.factory import make_controller
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.simulation import Simulation
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.state import RobotState
 from robot_sim.transforms import rot_from_angle_axis

@@ -17,7 +17,7 @@ import pytest
 from kin_helpers import robot
 from robot_sim import dynamics
 from robot_sim.control.factory import make_controller
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.simulation import Simulation
 from robot_sim.kinematics import forward_kinematics, jacobian, tool_kinematics
 from robot_sim.model.state import RobotState
 from robot_sim.planning.cartesian import cartesian_line

@@ -1,4 +1,4 @@
-"""The compiled dynamics kernels (robot_sim.dynamics_compiled) against the readable
+"""The compiled dynamics kernels (robot_sim.dynamics.compiled) against the readable
 recursion of robot_sim.dynamics (backend "reference") on random chains of both
 conventions, with prismatic joints, drives and tool wrenches; the backend switch; the
 kernels' own sine and cosine; one fixed step against the reference step."""
@@ -12,7 +12,8 @@ import pytest
 
 from kin_helpers import CONVENTIONS, random_dh_robot, random_inertials, random_q
 from robot_sim import dynamics as dyn
-from robot_sim import dynamics_compiled as dc
+from robot_sim.kernels.algebra import cos_sin
+from robot_sim.sim import stepper as stepping
 from robot_sim.model.inertials import Drives
 
 TOL = 1e-12  # relative to the size of the quantity
@@ -110,17 +111,17 @@ def test_one_step_equals_the_reference_step(method):
     active = np.array([True] * 5 + [False])
 
     def run():
-        out = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, A1, known, active)
+        out = stepping.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, A1, known, active)
         return out.q.copy(), out.qd.copy(), out.qdd.copy(), out.status.copy()
 
     (q_c, qd_c, a_c, s_c), (q_r, qd_r, a_r, s_r) = _both(run)
-    assert (s_c[:5] == dyn.STEP_OK).all() and (s_r[:5] == dyn.STEP_OK).all()
+    assert (s_c[:5] == stepping.STEP_OK).all() and (s_r[:5] == stepping.STEP_OK).all()
     for c, r, what in ((q_c, q_r, "q"), (qd_c, qd_r, "qd"), (a_c, a_r, "qdd")):
         _close(c[:5], r[:5], what)
     # RK4 against a much finer Euler integration of the same dynamics, as an independent check
     if method == "rk4":
         q, qd = Q[:1].copy(), QD[:1].copy()
-        fine = dyn.Stepper(rob, 1, 1e-6, "euler")
+        fine = stepping.Stepper(rob, 1, 1e-6, "euler")
         for _ in range(1000):
             out = fine.step(q, qd, TAU[:1])
             q, qd = out.q.copy(), out.qd.copy()
@@ -132,10 +133,10 @@ def test_a_failing_arm_is_reported_and_the_others_stepped():
     Q, QD, TAU = random_q(rob, rng, 3), rng.normal(size=(3, 3)), rng.normal(size=(3, 3))
     QD[1] = 1e200  # stage velocities overflow
     TAU[2, 0] = np.inf
-    out = dyn.Stepper(rob, 3, 1e-3).step(Q, QD, TAU)
-    assert out.status[0] == dyn.STEP_OK and np.isfinite(out.q[0]).all()
-    assert out.status[1] in (dyn.STEP_BAD_STATE, dyn.STEP_BAD_ACCEL)
-    assert out.status[2] == dyn.STEP_BAD_ACCEL
+    out = stepping.Stepper(rob, 3, 1e-3).step(Q, QD, TAU)
+    assert out.status[0] == stepping.STEP_OK and np.isfinite(out.q[0]).all()
+    assert out.status[1] in (stepping.STEP_BAD_STATE, stepping.STEP_BAD_ACCEL)
+    assert out.status[2] == stepping.STEP_BAD_ACCEL
 
 
 @pytest.mark.parametrize("backend", ["compiled", "reference"])
@@ -173,7 +174,7 @@ def test_kernel_sine_and_cosine_match_the_c_library():
     rng = np.random.default_rng(0)
     x = np.concatenate([rng.normal(scale=s, size=2000) for s in (0.1, 1.0, 10.0, 1e3, 1e5, 1e7)])
     x = np.concatenate([x, [0.0, -0.0, math.pi / 2, -math.pi, 3 * math.pi / 4, 1e5, -1e5, 2e5]])
-    out = np.array([dc.cos_sin(v) for v in x[:: 7]])  # interpreted calls: the same formulas
+    out = np.array([cos_sin(v) for v in x[:: 7]])  # interpreted calls: the same formulas
     ref = np.column_stack([np.cos(x[:: 7]), np.sin(x[:: 7])])
     assert np.abs(out - ref).max() <= 2.3e-16 * 2
 
@@ -193,11 +194,11 @@ def test_a_step_with_held_joints_equals_the_reference_step(method, convention):
     QD[HELD] = 0.0
 
     def run():
-        out = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=HELD)
+        out = stepping.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=HELD)
         return out.q.copy(), out.qd.copy(), out.qdd.copy(), out.reaction.copy(), out.status.copy()
 
     (q_c, qd_c, a_c, r_c, s_c), (q_r, qd_r, a_r, r_r, s_r) = _both(run)
-    assert (s_c == dyn.STEP_OK).all() and (s_r == dyn.STEP_OK).all()
+    assert (s_c == stepping.STEP_OK).all() and (s_r == stepping.STEP_OK).all()
     for c, r, what in ((q_c, q_r, "q"), (qd_c, qd_r, "qd"), (a_c, a_r, "qdd"), (r_c, r_r, "reaction")):
         _close(c, r, what)
     assert np.array_equal(q_c[HELD], Q[HELD]) and not qd_c[HELD].any() and not a_c[HELD].any()
@@ -205,7 +206,7 @@ def test_a_step_with_held_joints_equals_the_reference_step(method, convention):
     qdd, reaction = dyn.constrained_forward_dynamics(rob, Q, QD, TAU, HELD)
     _close(a_c, qdd, "start acceleration against constrained_forward_dynamics")
     _close(r_c, reaction, "reaction against constrained_forward_dynamics")
-    free = dyn.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=np.zeros_like(HELD))
+    free = stepping.Stepper(rob, N, 1e-3, method).step(Q, QD, TAU, held=np.zeros_like(HELD))
     assert np.array_equal(free.q[0], q_c[0]) and np.array_equal(free.qd[0], qd_c[0])  # nothing held: the same bits
 
 
@@ -230,19 +231,19 @@ def test_the_stepper_holds_joints_resting_on_their_stops_and_leaves_the_rest_to_
     TAU[1, pressed] = -1e3 * np.sign(a0[pressed]) * (1 + abs(dyn.mass_matrix(rob, q0)[pressed, pressed]))  # env 1: pulled off
     lo3, hi3 = np.full(4, -np.inf), np.full(4, np.inf)
     hi3[0] = q0[0] + 1e-3  # only joint 0 limited: env 3 crosses, from a start on no stop
-    out = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, stops=True)
+    out = stepping.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, stops=True)
     status, q1, reaction, at = out.status.copy(), out.q.copy(), out.reaction.copy(), out.at_limit.copy()
-    assert status.tolist()[:3] == [dyn.STEP_ON_LIMIT, dyn.STEP_AT_STOP, dyn.STEP_AT_STOP]  # env 0 ends on its stop
+    assert status.tolist()[:3] == [stepping.STEP_ON_LIMIT, stepping.STEP_AT_STOP, stepping.STEP_AT_STOP]  # env 0 ends on its stop
     assert q1[0, pressed] == q0[pressed] and at[0].tolist() == [j == pressed for j in range(4)]
-    named = dyn.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, held=np.eye(4, dtype=bool)[[pressed] * 5])
+    named = stepping.Stepper(stops, 5, 1e-3).step(Q, QD, TAU, held=np.eye(4, dtype=bool)[[pressed] * 5])
     assert np.array_equal(named.q[0], q1[0]) and np.array_equal(named.reaction[0], reaction[0])
     assert np.sign(reaction[0, pressed]) == -np.sign(a0[pressed])  # the stop pushes against the fall
     crossing = dataclasses.replace(rob, q_min=lo3, q_max=hi3)
-    out = dyn.Stepper(crossing, 5, 1e-3).step(Q, QD, TAU, stops=True)
-    free = dyn.Stepper(rob, 5, 1e-3).step(Q, QD, TAU)
-    assert out.status[3] == dyn.STEP_CROSSED and np.array_equal(out.q[3], free.q[3])
+    out = stepping.Stepper(crossing, 5, 1e-3).step(Q, QD, TAU, stops=True)
+    free = stepping.Stepper(rob, 5, 1e-3).step(Q, QD, TAU)
+    assert out.status[3] == stepping.STEP_CROSSED and np.array_equal(out.q[3], free.q[3])
     point = dataclasses.replace(rob, q_min=q0.copy(), q_max=np.where(np.arange(4) == 0, q0, np.inf))
-    assert dyn.Stepper(point, 5, 1e-3).step(Q, QD, TAU, stops=True).status[0] == dyn.STEP_AT_STOP
+    assert stepping.Stepper(point, 5, 1e-3).step(Q, QD, TAU, stops=True).status[0] == stepping.STEP_AT_STOP
 
 
 @pytest.mark.parametrize("method", ["rk4", "euler"])
@@ -257,23 +258,23 @@ def test_computed_torque_fused_into_the_step_is_the_law_then_the_step(method):
     peak = np.abs(dyn.computed_torque(rob, Q, QD, QDES, QDDES, QDDDES, KP[:, None], KD[:, None])[0]).max(axis=1)
     limit = np.full(5, np.median(peak))  # about half the arms saturate
     QDDDES[5, 2] = np.inf
-    stepper = dyn.Stepper(rob, N, 1e-3, method)
+    stepper = stepping.Stepper(rob, N, 1e-3, method)
 
     def fused():
         out = stepper.step_computed_torque(Q, QD, QDES, QDDES, QDDDES, KP, KD, limit)
         return out.command.copy(), out.effort.copy(), out.q.copy(), out.qd.copy(), out.qdd.copy(), out.status.copy()
 
     command, effort, q1, qd1, qdd1, status = fused()
-    assert status[:5].tolist() == [dyn.STEP_OK] * 5 and status[5] == dyn.STEP_BAD_EFFORT
+    assert status[:5].tolist() == [stepping.STEP_OK] * 5 and status[5] == stepping.STEP_BAD_EFFORT
     tau, qdd_ref = dyn.computed_torque(rob, Q[:5], QD[:5], QDES[:5], QDDES[:5], QDDDES[:5], KP[:5, None], KD[:5, None])
     saturated = (np.abs(tau) > limit).any(axis=1)
     assert saturated.any() and not saturated.all()
     clipped = np.clip(tau, -limit, limit)
-    plain = dyn.Stepper(rob, 5, 1e-3, method).step(Q[:5], QD[:5], clipped, qdd_ref, ~saturated)
+    plain = stepping.Stepper(rob, 5, 1e-3, method).step(Q[:5], QD[:5], clipped, qdd_ref, ~saturated)
     for got, want in ((command[:5], tau), (effort[:5], clipped), (q1[:5], plain.q), (qd1[:5], plain.qd), (qdd1[:5], plain.qdd)):
         assert np.array_equal(got, want)
     QDDDES[5, 2] = 0.0
     compiled, reference = _both(fused)
-    assert (reference[-1] == dyn.STEP_OK).all()
+    assert (reference[-1] == stepping.STEP_OK).all()
     for c, r, what in zip(compiled[:5], reference[:5], ("command", "effort", "q", "qd", "qdd")):
         _close(c, r, what)

@@ -7,7 +7,7 @@ import pytest
 
 from kin_helpers import robot
 from robot_sim.kinematics import forward_kinematics
-from robot_sim.control.pick_run import simulate_pick
+from robot_sim.sim.pick_run import simulate_pick
 from robot_sim.planning.pick_task import default_plan
 
 

@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robot_sim.control.batch import BatchSimulation
+from robot_sim.sim.batch import BatchSimulation
 from robot_sim.control.controllers import control_gains
 from robot_sim.control.factory import make_controller
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.simulation import Simulation
 from robot_sim.io.robot_file import load_robot
 
 N_ENVS = 4
@@ -64,6 +64,30 @@ def test_batch_equals_single_simulations_bit_for_bit(name, mode, integrator):
     _assert_same(batch, sims)
     if name == "puma560" and mode != "passive":  # the case exercises the limits it claims to
         assert batch.saturated.any() or any(s.saturated.any() for s in sims) or batch.events
+
+
+def test_the_batch_resolves_its_stops_with_the_one_resolver_and_no_simulation(monkeypatch):
+    """Steps that hit a stop go through sim.stops' resolver directly: no scratch
+    Simulation is built (one used to lend the batch its time for a while), and every
+    arrival carries its own environment's time within the step that met it."""
+    robot = load_robot("puma560")
+    batch = BatchSimulation(robot, 2, controller="pd", integrator="rk4")
+    lo, hi = robot.q_min, robot.q_max
+    assert np.isfinite(lo).all() and np.isfinite(hi).all()
+    batch.set_state(np.vstack([lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo)]))
+    batch.set_reference(q=np.vstack([lo - 0.5, hi + 0.5]))  # each pulled past its nearest limits
+
+    def refused(*_args, **_kwargs):
+        raise AssertionError("BatchSimulation built a Simulation")
+
+    monkeypatch.setattr(Simulation, "__init__", refused)
+    for _ in range(STEPS):
+        before = batch.time.copy()
+        seen = len(batch.events)
+        batch.step()
+        for env, event in batch.events[seen:]:
+            assert before[env] <= event.time <= batch.time[env]
+    assert {env for env, _ in batch.events} == {0, 1}
 
 
 def test_batch_follows_a_reference_function_per_environment():

@@ -15,8 +15,9 @@ from contact_helpers import MASS, RADIUS, planar_carriage, vertical_slider
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim import dynamics
 from robot_sim.collision import Box, CollisionChecker, Sphere, World
-from robot_sim.collision.contact import MIN_MARGIN, OMEGA_DT, ContactModel
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.contact import MIN_MARGIN, OMEGA_DT, ContactModel
+from robot_sim.sim.simulation import Simulation
+from robot_sim.sim.stepper import runge_kutta
 from robot_sim.dynamics import GRAVITY
 from robot_sim.transforms import HomogeneousTransform
 
@@ -178,6 +179,32 @@ def test_a_passive_ur5_dropped_onto_a_box_comes_to_rest_on_it():
     tau = sim.contact.torque(sim.q, np.zeros(rob.n_dofs))
     np.testing.assert_allclose(tau, dynamics.gravity_torque(rob, sim.q), atol=1e-3)
     assert gained < 1e-6
+
+
+@pytest.mark.parametrize("integrator", ["rk4", "euler"])
+def test_the_compiled_contact_step_is_the_stage_by_stage_step(integrator):
+    """ContactModel.step (one compiled call) takes the operations of the NumPy stages:
+    forward dynamics of τ plus the contact torque at every stage's state, combined by
+    runge_kutta, bit for bit, on the UR5 landing on the box (friction anchors held)."""
+    rob, world = ur5_over_box()
+    sim = Simulation(rob, checker=CollisionChecker(rob, world), friction=0.5, integrator=integrator)
+    for _ in range(600):  # until the forearm meets the box
+        sim.step()
+        if sim.contact_forces:
+            break
+    contact, dt = sim.contact, sim.dt
+    q, qd, tau = sim.q.copy(), sim.qd.copy(), np.full(rob.n_dofs, 0.3)
+    assert contact.begin_step(q, qd, dt)
+
+    def accel(_offset, qs, vs):
+        return dynamics.forward_dynamics(rob, qs, vs, tau + contact.torque(qs, vs))
+
+    expected = runge_kutta(integrator, q, qd, dt, accel(0.0, q, qd), accel)
+    g0 = dynamics.compiled_kernels(rob)[2]
+    got = contact.step(q, qd, tau, None, dt, integrator == "rk4", g0)
+    assert np.abs(contact.torque(q, qd)).max() > 1.0  # the step is in contact
+    for a, b in zip(got, expected):
+        assert np.array_equal(a, b)
 
 
 @pytest.mark.parametrize("friction", [0.0, 0.5])

@@ -1,4 +1,4 @@
-"""Joint stops (robot_sim/control/joint_stops.py and the simulation loop's use of them):
+"""Joint stops (robot_sim/sim/joint_stops.py and the simulation loop's use of them):
 impacts consistent with the mass matrix, joints held on their stops, no energy created."""
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from robot_sim import dynamics
-from robot_sim.control import joint_stops
+from robot_sim.sim import joint_stops
 from robot_sim.control.controllers import PD, control_gains
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.simulation import Simulation
 from robot_sim.model.inertials import LinkInertials
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.model.state import RobotState

@@ -16,7 +16,7 @@ from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.io.robot_file import load_robot
 from robot_sim.model.state import RobotState
 from sim_helpers import PENDULUM_LENGTH, PENDULUM_MASS, frictionless, pendulum, quintic
-from robot_sim.control.simulation import LimitEvent, Simulation
+from robot_sim.sim.simulation import LimitEvent, Simulation
 from robot_sim.viewer.session import ViewerSession
 
 

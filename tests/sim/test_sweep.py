@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from robot_sim.control.sweep import SETTLE_FRACTION, default_target, sweep, with_payload
+from robot_sim.sim.sweep import SETTLE_FRACTION, default_target, sweep, with_payload
 from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, control_gains
-from robot_sim.control.simulation import Simulation
+from robot_sim.sim.simulation import Simulation
 from robot_sim.io.robot_file import load_robot
 
 from cli_helpers import run, run_process

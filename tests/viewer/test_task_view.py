@@ -11,7 +11,7 @@ import pytest
 import robot_sim.viewer.session as session_module
 import robot_sim.viewer.drivers.circle as circle_module
 from kin_helpers import robot
-from robot_sim.control.pick_run import simulate_pick
+from robot_sim.sim.pick_run import simulate_pick
 from robot_sim.io.robot_file import load_robot
 from robot_sim.planning.pick_task import default_plan
 from robot_sim.viewer import settings as vs

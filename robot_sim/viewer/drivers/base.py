@@ -12,7 +12,7 @@ from robot_sim.transforms import HomogeneousTransform
 from robot_sim.viewer.trail import Trail
 
 if TYPE_CHECKING:
-    from robot_sim.control.simulation import LimitEvent
+    from robot_sim.sim.stops import LimitEvent
     from robot_sim.viewer.motion import Motion
 
 

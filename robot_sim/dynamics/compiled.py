@@ -8,13 +8,15 @@ once per machine (``cache=True``: later processes load the machine code from
 code, so a batched result equals the one-configuration result bit for bit: a
 ``BatchSimulation`` of n arms is n ``Simulation``\\ s, exactly.
 
-Inputs are plain arrays: the robot is the per-joint parameter table ``P`` (n, :data:`NCOL`)
-built by :func:`parameter_table` (columns below; link quantities in each link's own DH
-frame, inertia about the frame origin; column :data:`MOD` says the DH convention).
+Inputs are plain arrays: the robot is its compiled model's table ``P`` (n, NCOL) of
+:mod:`robot_sim.kernels.model` (named columns; link quantities in each link's own DH
+frame, inertia about the frame origin; column ``MOD`` says the DH convention).
 Gravity ``g0`` (3,) [m/s²] is given in frame 0; an external wrench ``fext`` (6,) [N; N·m]
 on the last link acts about its frame origin, in its frame.  Units are SI throughout.
 
-This module imports nothing of the project but :mod:`robot_sim.jit` (numba's settings).
+This module imports nothing of the project but the kernels layer (:mod:`robot_sim.kernels`:
+the model's columns, numba's settings, sin/cos, the cross product, the Cholesky solve and
+the RK4 stages).
 """
 from __future__ import annotations
 
@@ -23,15 +25,12 @@ import math
 import numpy as np
 from numba import njit
 
-from robot_sim.jit import JIT
-
-# Columns of the per-joint parameter table P.
-REV, TH, D, A, CA, SA, MASS, HX, HY, HZ = range(10)
-IXX, IYY, IZZ, IXY, IYZ, IXZ, REFL, VISC, CPOS, CNEG = range(10, 20)
-SVX, SVY, SVZ, SWX, SWY, SWZ = range(20, 26)  # joint motion [v; ω] per unit rate, frame j
-MOD = 26  # 1.0 in every row for modified DH (Craig), 0.0 for standard DH
-QLO, QHI = 27, 28  # the joint's limits [rad or m] (±inf: none)
-NCOL = 29
+from robot_sim.kernels.algebra import cholesky_solve, cos_sin, cross, euler_combine, rk4_combine, rk4_stage
+from robot_sim.kernels.jit import INLINE, JIT
+from robot_sim.kernels.model import (
+    CA, CNEG, CPOS, HX, HY, HZ, IXX, IXY, IXZ, IYY, IYZ, IZZ, MASS, MOD, QHI, QLO, REFL, REV, SA, SVX, SVY, SVZ,
+    SWX, SWY, SWZ, TH, VISC, A, D,
+)
 
 #: Status codes of :func:`step_batch` per configuration: stepped; a stage state or an
 #: acceleration not finite; (with ``stops``) stepped from a start on no stop but beyond a
@@ -42,64 +41,32 @@ NCOL = 29
 OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP, BAD_EFFORT, ON_LIMIT = 0, 1, 2, 3, 4, 5, 6
 _NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
-_INLINE = dict(JIT, inline="always")  # small helpers: inlined into the kernels
-
-
-def parameter_table(
-    *, modified, revolute, theta, d, a, cos_alpha, sin_alpha, mass, first_moment, inertia, reflected, viscous,
-    coulomb_pos, coulomb_neg, q_min, q_max,
-) -> np.ndarray:
-    """The table P (n, NCOL) of per-joint constants: joint type, DH θ offset, d, a [m],
-    cos α, sin α; link mass [kg], first moment m·c [kg·m] and inertia about the frame
-    origin (xx, yy, zz, xy, yz, xz) [kg·m²] in the link's frame; drive terms G²Jm
-    [kg·m²], G²B [N·m·s/rad] and |G|·Tc± [N·m]; the joint's motion subspace [v of the
-    frame origin; ω] per unit rate in frame j; the convention (:data:`MOD`); the joint
-    limits [rad or m]."""
-    n = len(revolute)
-    P = np.zeros((n, NCOL))
-    P[:, REV] = np.asarray(revolute, dtype=float)
-    P[:, TH], P[:, D], P[:, A] = theta, d, a
-    P[:, CA], P[:, SA] = cos_alpha, sin_alpha
-    P[:, MASS] = mass
-    P[:, HX : HZ + 1] = np.asarray(first_moment, dtype=float).reshape(n, 3)
-    P[:, IXX : IXZ + 1] = np.asarray(inertia, dtype=float).reshape(n, 6)
-    P[:, REFL], P[:, VISC], P[:, CPOS], P[:, CNEG] = reflected, viscous, coulomb_pos, coulomb_neg
-    for j in range(n):
-        P[j, SVX : SWZ + 1] = _subspace(P, bool(modified), j)
-    P[:, MOD] = 1.0 if modified else 0.0
-    P[:, QLO], P[:, QHI] = q_min, q_max
-    return P
 
 
 # ------------------------------------------------------------------ 3-vector algebra
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rz(x, y, z, c, s):
     return c * x - s * y, s * x + c * y, z
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rz_t(x, y, z, c, s):
     return c * x + s * y, c * y - s * x, z
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rx(x, y, z, c, s):
     return x, c * y - s * z, s * y + c * z
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rx_t(x, y, z, c, s):
     return x, c * y + s * z, c * z - s * y
 
 
-@njit(**_INLINE)
-def _cross(ax, ay, az, bx, by, bz):
-    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-
-
-@njit(**_INLINE)
+@njit(**INLINE)
 def _to_child(modified, x, y, z, c, s, ca, sa):
     """Vector in frame j−1 expressed in frame j (Rᵀ v)."""
     if modified:
@@ -109,7 +76,7 @@ def _to_child(modified, x, y, z, c, s, ca, sa):
     return _rx_t(x, y, z, ca, sa)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _to_parent(modified, x, y, z, c, s, ca, sa):
     """Vector in frame j expressed in frame j−1 (R v)."""
     if modified:
@@ -119,13 +86,13 @@ def _to_parent(modified, x, y, z, c, s, ca, sa):
     return _rz(x, y, z, c, s)
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _sym_mv(xx, yy, zz, xy, yz, xz, x, y, z):
     """Symmetric matrix (xx, yy, zz, xy, yz, xz) times (x, y, z)."""
     return xx * x + xy * y + xz * z, xy * x + yy * y + yz * z, xz * x + yz * y + zz * z
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rot_sym_z(xx, yy, zz, xy, yz, xz, c, s):
     """Rz(θ) S Rz(θ)ᵀ."""
     c2, s2 = c * c - s * s, 2.0 * c * s
@@ -134,49 +101,13 @@ def _rot_sym_z(xx, yy, zz, xy, yz, xz, c, s):
     return mean + t, mean - t, zz, half * s2 + xy * c2, s * xz + c * yz, c * xz - s * yz
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _rot_sym_x(xx, yy, zz, xy, yz, xz, c, s):
     """Rx(α) S Rx(α)ᵀ."""
     c2, s2 = c * c - s * s, 2.0 * c * s
     mean, half = 0.5 * (yy + zz), 0.5 * (yy - zz)
     t = half * c2 - yz * s2
     return xx, mean + t, mean - t, c * xy - s * xz, half * s2 + yz * c2, s * xy + c * xz
-
-
-# ------------------------------------------------------------------ sin and cos
-# One range reduction and two polynomials give both (the C library's cos and sin cost
-# about 25 ns each here, the largest share of a one-configuration RNEA).  Cody–Waite
-# reduction by π/2 in three parts and fdlibm's kernel polynomials: within 1 ulp or so
-# of the C library for |x| ≤ 1e5 rad; larger angles go to the C library.
-_TWO_OVER_PI = 6.36619772367581382433e-01
-_PIO2_1, _PIO2_2, _PIO2_3 = 1.57079632673412561417e00, 6.07710050630396597660e-11, 2.02226624871116645580e-21
-_S1, _S2, _S3 = -1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04
-_S4, _S5, _S6 = 2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10
-_C1, _C2, _C3 = 4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05
-_C4, _C5, _C6 = -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11
-_REDUCE_MAX = 1e5
-
-
-@njit(**_INLINE)
-def cos_sin(x):
-    """(cos x, sin x) of an angle x [rad]."""
-    if not abs(x) <= _REDUCE_MAX:
-        return math.cos(x), math.sin(x)
-    k = math.floor(x * _TWO_OVER_PI + 0.5)
-    r = ((x - k * _PIO2_1) - k * _PIO2_2) - k * _PIO2_3
-    z = r * r
-    sin_r = r + r * z * (_S1 + z * (_S2 + z * (_S3 + z * (_S4 + z * (_S5 + z * _S6)))))
-    hz = 0.5 * z
-    w = 1.0 - hz
-    cos_r = w + (((1.0 - w) - hz) + z * z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (_C5 + z * _C6))))))
-    quadrant = int(k) & 3
-    if quadrant == 0:
-        return cos_r, sin_r
-    if quadrant == 1:
-        return -sin_r, cos_r
-    if quadrant == 2:
-        return -cos_r, -sin_r
-    return sin_r, -cos_r
 
 
 # ------------------------------------------------------------------ chain geometry
@@ -196,33 +127,18 @@ def _geometry(P, modified, q, O, CS):
         O[j, 2] = P[j, CA] * d
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _wrench_to_parent(modified, fx, fy, fz, nx, ny, nz, c, s, ca, sa, px, py, pz):
     """Force f and moment n about origin j (frame j) → about origin j−1, in frame j−1."""
     if modified:
         fx, fy, fz = _to_parent(True, fx, fy, fz, c, s, ca, sa)
         nx, ny, nz = _to_parent(True, nx, ny, nz, c, s, ca, sa)
-        mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+        mx, my, mz = cross((px, py, pz), (fx, fy, fz))
         return fx, fy, fz, nx + mx, ny + my, nz + mz
-    mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+    mx, my, mz = cross((px, py, pz), (fx, fy, fz))
     nx, ny, nz = _to_parent(False, nx + mx, ny + my, nz + mz, c, s, ca, sa)
     fx, fy, fz = _to_parent(False, fx, fy, fz, c, s, ca, sa)
     return fx, fy, fz, nx, ny, nz
-
-
-def _subspace(P, modified, j):
-    """Joint j's motion [v of origin j; ω] per unit rate, in frame j."""
-    rev = P[j, REV] != 0.0
-    if modified:
-        if rev:
-            return 0.0, 0.0, 0.0, 0.0, 0.0, 1.0
-        return 0.0, 0.0, 1.0, 0.0, 0.0, 0.0
-    sa, ca = P[j, SA], P[j, CA]
-    if rev:  # v = axis × (o_j − o_{j−1})
-        d = P[j, D]
-        vx, vy, vz = sa * (ca * d) - ca * (sa * d), ca * P[j, A], -(sa * P[j, A])
-        return vx, vy, vz, 0.0, sa, ca
-    return 0.0, sa, ca, 0.0, 0.0, 0.0
 
 
 # ------------------------------------------------------------------ one configuration
@@ -274,8 +190,8 @@ def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
         ixx, iyy, izz, ixy, iyz, ixz = P[j, IXX], P[j, IYY], P[j, IZZ], P[j, IXY], P[j, IYZ], P[j, IXZ]
         lx, ly, lz = _sym_mv(ixx, iyy, izz, ixy, iyz, ixz, wx, wy, wz)
         gx, gy, gz = _sym_mv(ixx, iyy, izz, ixy, iyz, ixz, dx, dy, dz)
-        cx, cy, cz = _cross(wx, wy, wz, lx, ly, lz)
-        ex, ey, ez = _cross(hx, hy, hz, ax, ay, az)
+        cx, cy, cz = cross((wx, wy, wz), (lx, ly, lz))
+        ex, ey, ez = cross((hx, hy, hz), (ax, ay, az))
         NM[j, 0], NM[j, 1], NM[j, 2] = gx + cx + ex, gy + cy + ey, gz + cz + ez
     if use_ext:
         for k in range(3):
@@ -289,7 +205,7 @@ def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
         if modified:
             t = nz if rev else fz
         elif rev:
-            mx, my, mz = _cross(px, py, pz, fx, fy, fz)
+            mx, my, mz = cross((px, py, pz), (fx, fy, fz))
             t = sa * (ny + my) + ca * (nz + mz)
         else:
             t = sa * fy + ca * fz
@@ -320,10 +236,10 @@ def crba_one(P, modified, M, O, CS):
         cxx, cyy, czz = cxx + P[j, IXX], cyy + P[j, IYY], czz + P[j, IZZ]
         cxy, cyz, cxz = cxy + P[j, IXY], cyz + P[j, IYZ], cxz + P[j, IXZ]
         vx, vy, vz, ux, uy, uz = P[j, SVX], P[j, SVY], P[j, SVZ], P[j, SWX], P[j, SWY], P[j, SWZ]
-        kx, ky, kz = _cross(chx, chy, chz, ux, uy, uz)
+        kx, ky, kz = cross((chx, chy, chz), (ux, uy, uz))
         fx, fy, fz = cm * vx - kx, cm * vy - ky, cm * vz - kz
         ix, iy, iz = _sym_mv(cxx, cyy, czz, cxy, cyz, cxz, ux, uy, uz)
-        kx, ky, kz = _cross(chx, chy, chz, vx, vy, vz)
+        kx, ky, kz = cross((chx, chy, chz), (vx, vy, vz))
         nx, ny, nz = ix + kx, iy + ky, iz + kz
         M[j, j] = (vx * fx + vy * fy + vz * fz) + (ux * nx + uy * ny + uz * nz) + P[j, REFL]
         for k in range(j, 0, -1):
@@ -359,35 +275,7 @@ def crba_one(P, modified, M, O, CS):
 
 
 @njit(**JIT)
-def cholesky_solve(M, b, x):
-    """x with M x = b for symmetric positive definite M (n, n), factorised in place into
-    its lower Cholesky factor; a matrix that is not positive definite leaves NaN in x."""
-    n = M.shape[0]
-    for j in range(n):
-        diag = M[j, j]
-        for k in range(j):
-            diag -= M[j, k] * M[j, k]
-        ljj = math.sqrt(diag) if diag > 0.0 else math.nan
-        M[j, j] = ljj
-        for i in range(j + 1, n):
-            acc = M[i, j]
-            for k in range(j):
-                acc -= M[i, k] * M[j, k]
-            M[i, j] = acc / ljj
-    for i in range(n):
-        acc = b[i]
-        for k in range(i):
-            acc -= M[i, k] * x[k]
-        x[i] = acc / M[i, i]
-    for i in range(n - 1, -1, -1):
-        acc = x[i]
-        for k in range(i + 1, n):
-            acc -= M[k, i] * x[k]
-        x[i] = acc / M[i, i]
-
-
-@njit(**JIT)
-def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
+def fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
     """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``.  With ``use_held``, the joints j with
     ``held[j]`` are locked: their rows and columns of M are replaced by the identity's and
     their right-hand side by 0, so q̈_j = 0 exactly, and their reaction
@@ -424,8 +312,8 @@ def _fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, rea
             react[j] = acc
 
 
-@njit(**_INLINE)
-def _finite(x):
+@njit(**INLINE)
+def all_finite(x):
     """True if every entry of the vector x is finite."""
     for v in x:
         if not math.isfinite(v):
@@ -433,7 +321,7 @@ def _finite(x):
     return True
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
     """Computed torque: q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) into ``qdd_ref``
     (the operations and their order of NumPy's ``qdd_des + kp * (q_des - q) + kd * (qd_des - qd)``)
@@ -453,7 +341,7 @@ def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
     for x in (q, qd, q_des, qd_des, qdd_des, tau, qdd_ref):
         if x.shape[0] != n:
             return False
-    if g0.shape[0] != 3 or not (_finite(q) and _finite(qd) and _finite(q_des) and _finite(qd_des) and _finite(qdd_des)):
+    if g0.shape[0] != 3 or not (all_finite(q) and all_finite(qd) and all_finite(q_des) and all_finite(qd_des) and all_finite(qdd_des)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM)
@@ -480,7 +368,7 @@ def rnea_vec(P, q, qd, qdd, g0, tau):
     n = P.shape[0]
     if not (q.shape[0] == n and qd.shape[0] == n and qdd.shape[0] == n and tau.shape[0] == n and g0.shape[0] == 3):
         return False
-    if not (_finite(q) and _finite(qd) and _finite(qdd)):
+    if not (all_finite(q) and all_finite(qd) and all_finite(qdd)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     _geometry(P, modified, q, O, CS)
@@ -496,11 +384,11 @@ def fd_vec(P, q, qd, tau, g0, qdd):
     n = P.shape[0]
     if not (q.shape[0] == n and qd.shape[0] == n and tau.shape[0] == n and qdd.shape[0] == n and g0.shape[0] == 3):
         return False
-    if not (_finite(q) and _finite(qd) and _finite(tau)):
+    if not (all_finite(q) and all_finite(qd) and all_finite(tau)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
-    _fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
+    fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
     return True
 
 
@@ -514,7 +402,7 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
     for i in range(Q.shape[0]):
         _geometry(P, modified, Q[i], O, CS)
         rnea_one(P, modified, QD[i], QDD[i], g0, FEXT[i if use_ext else 0], use_ext, TAU[i], O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDD[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDD[i])
     return finite
 
 
@@ -527,7 +415,7 @@ def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
     finite = True
     for i in range(Q.shape[0]):
         _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, TAU[i], QDDREF[i], O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(QDES[i]) and _finite(QDDES[i]) and _finite(QDDDES[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDES[i]) and all_finite(QDDES[i]) and all_finite(QDDDES[i])
     return finite
 
 
@@ -541,7 +429,7 @@ def crba_batch(P, Q, MM):
     for i in range(Q.shape[0]):
         _geometry(P, modified, Q[i], O, CS)
         crba_one(P, modified, MM[i], O, CS)
-        finite = finite and _finite(Q[i])
+        finite = finite and all_finite(Q[i])
     return finite
 
 
@@ -554,13 +442,13 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
     finite = True
     for i in range(Q.shape[0]):
-        _fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
+        fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
                 bias, M, O, CS, F, NM)
-        finite = finite and _finite(Q[i]) and _finite(QD[i]) and _finite(TAU[i])
+        finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(TAU[i])
     return finite
 
 
-@njit(**_INLINE)
+@njit(**INLINE)
 def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_held, stops, q1, qd1, qdd1, reaction, at,
               work):
     """One step of :func:`step_batch` for one configuration (its rules there); the status.
@@ -569,7 +457,6 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
     ``stops``); ``work`` the kernels' work arrays."""
     O, CS, F, NM, zero, bias, M, fext, a1, a2, a3, a4, qs, vs, react = work
     n = P.shape[0]
-    half, sixth = 0.5 * h, h / 6.0
     any_held, on_stop = False, False
     if stops:
         for j in range(n):
@@ -584,11 +471,11 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
     elif use_held:
         for j in range(n):
             any_held = any_held or held[j]
-    if use_start and not (any_held or on_stop) and _finite(a_start):
+    if use_start and not (any_held or on_stop) and all_finite(a_start):
         a1[:] = a_start
     else:
-        _fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
-        if not _finite(a1):
+        fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
+        if not all_finite(a1):
             return BAD_ACCEL
     if any_held:
         for j in range(n):
@@ -599,29 +486,18 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
         reaction[:] = 0.0
     qdd1[:] = a1
     if not rk4:
-        for j in range(n):
-            qd1[j] = v[j] + h * a1[j]
-            q1[j] = q[j] + h * qd1[j]
+        euler_combine(h, q, v, a1, q1, qd1)
     else:
         for stage in range(3):  # stages 2, 3, 4 of RK4
             prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
             out = a2 if stage == 0 else (a3 if stage == 1 else a4)
-            step = h if stage == 2 else half
-            for j in range(n):
-                # stage velocity v_k = v + step·a_{k−1}; stage position q + step·v_{k−1}
-                pv = v[j] if stage == 0 else vs[j]
-                vs_new = v[j] + step * prev[j]
-                qs[j] = q[j] + step * pv
-                vs[j] = vs_new
-            if not (_finite(qs) and _finite(vs)):
+            rk4_stage(h if stage == 2 else 0.5 * h, q, v, prev, v if stage == 0 else vs, qs, vs)
+            if not (all_finite(qs) and all_finite(vs)):
                 return BAD_STATE
-            _fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
-            if not _finite(out):
+            fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
+            if not all_finite(out):
                 return BAD_ACCEL
-        for j in range(n):
-            v2, v3, v4 = v[j] + half * a1[j], v[j] + half * a2[j], v[j] + h * a3[j]
-            q1[j] = q[j] + sixth * (v[j] + 2.0 * (v2 + v3) + v4)
-            qd1[j] = v[j] + sixth * (a1[j] + 2.0 * (a2[j] + a3[j]) + a4[j])
+        rk4_combine(h, q, v, a1, a2, a3, a4, q1, qd1)
     status = OK
     if stops:
         for j in range(n):
@@ -634,8 +510,8 @@ def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_
     return status
 
 
-@njit(**_INLINE)
-def _work(n):
+@njit(**INLINE)
+def step_work(n):
     """The work arrays of :func:`_step_one` for n joints."""
     return (np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n),
             np.empty((n, n)), np.zeros(6), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
@@ -650,7 +526,7 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     Writes the new state into Q1, QD1, the start acceleration into QDD1 and a status
     (:data:`OK` … :data:`AT_STOP`) into STATUS.
 
-    Held joints (q̈ = 0 in every stage, see :func:`_fd_one`): with ``use_held``, those of
+    Held joints (q̈ = 0 in every stage, see :func:`fd_one`): with ``use_held``, those of
     HELD[i]; with ``stops`` (the joint limits of P), those resting on a stop: exactly on
     it at zero velocity, kept there only if every reaction pushes (λ_j ≥ 0 on a min stop,
     ≤ 0 on a max stop), else :data:`AT_STOP`.  A start with a joint on a stop moving into
@@ -660,7 +536,7 @@ def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, sto
     (from a start holding no joint; else :data:`AT_STOP`)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
-    work = _work(n)
+    work = step_work(n)
     held = np.zeros(n, dtype=np.bool_)
     for i in range(Q.shape[0]):
         if not active[i]:
@@ -683,7 +559,7 @@ def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, activ
     stepped)."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
-    work = _work(n)
+    work = step_work(n)
     O, CS, F, NM = work[0], work[1], work[2], work[3]
     held = np.zeros(n, dtype=np.bool_)
     qdd_ref = np.empty(n)

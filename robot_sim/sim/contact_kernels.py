@@ -1,5 +1,6 @@
-"""Compiled penalty-contact terms (:mod:`.contact`): point Jacobians of link points and
-the joint torque of the contacts of one configuration.
+"""Compiled penalty-contact terms (:mod:`.contact`): point Jacobians of link points, the
+joint torque of the contacts of one configuration, and the step of an arm in contact
+(:func:`contact_step`: the contact torque at every integration stage, in one call).
 
 Arrays as in :mod:`.batch`, plus ``body`` (S + O,): the link (0 base .. n) a scene row is
 fixed to, -1 for obstacles (fixed in the world); ``axis_frame`` (n,): the frame whose z
@@ -13,10 +14,12 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision._jit import JIT, njit
 from robot_sim.collision.batch import _pose, _workspace
-from robot_sim.collision.closest import madd
 from robot_sim.collision.narrow import core_ends, pair_distance
+from robot_sim.dynamics.compiled import BAD_ACCEL, BAD_STATE, OK, all_finite, fd_one, step_work
+from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
+from robot_sim.kernels.jit import JIT, njit
+from robot_sim.kernels.model import MOD
 
 # Columns of ``gains`` (A, 4) per active pair.
 K_N, C_N, K_T, C_T = range(4)
@@ -225,3 +228,60 @@ def _record(out, d, a, nrm):
         out[O_NORMAL + c] = nrm[c]
         out[O_FORCE + c] = 0.0
         out[O_SLIP + c] = 0.0
+
+
+@njit(**JIT)
+def _contact_accel(P, modified, q, qd, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
+                   revolute, rows, gains, mu, anchors, anchored, out, total, contact, acc, held, work):
+    """q̈ at (q, q̇) under the effort tau plus the contact torque of the active pairs
+    (:func:`contact_torque` with the step's gains and anchors) into ``acc`` (``held``: the
+    placeholder of ``fd_one``'s held joints, none here)."""
+    O, CS, F, NM, zero, bias, M, fext, _, _, _, _, _, _, react = work
+    contact_torque(q, qd, P, modified, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame, revolute,
+                   rows, gains, mu, anchors, anchored, False, contact, out)
+    for j in range(tau.shape[0]):
+        total[j] = tau[j] + contact[j]
+    fd_one(P, modified, q, qd, total, g0, fext, False, held, False, acc, react, zero, bias, M, O, CS, F, NM)
+
+
+@njit(**JIT)
+def contact_step(P, rk4, h, q, qd, tau, a_start, use_start, g0, world0, link, local, recs0, kinds, bc, br, verts, body,
+                 axis_frame, revolute, rows, gains, mu, anchors, anchored, out, q1, qd1, qdd1):
+    """One step of length h [s] of an arm in contact from (q, q̇) (n,) with the effort tau
+    held: classical RK4 (``rk4``) or semi-implicit Euler, the acceleration of every stage
+    that of tau plus the contact torque at the stage's state (forward dynamics of the
+    model table P, gravity g0 in frame 0; the scene arrays and the active pairs, gains and
+    anchors of :func:`contact_torque`, P being the scene's table too).  ``a_start`` is the
+    start's acceleration when ``use_start`` and finite.  (q, q̇) after the step into q1,
+    qd1, the start's acceleration into qdd1; returns the status of
+    ``dynamics.compiled.step_batch`` (OK, BAD_STATE, BAD_ACCEL).  The operations of
+    ``Simulation``'s stage-by-stage step, so the same bits."""
+    n = P.shape[0]
+    modified = P[0, MOD] != 0.0
+    work = step_work(n)
+    held = np.zeros(1, dtype=np.bool_)
+    a1, a2, a3, a4, qs, vs = work[8], work[9], work[10], work[11], work[12], work[13]
+    total, contact = np.empty(n), np.empty(n)
+    if use_start and all_finite(a_start):
+        a1[:] = a_start
+    else:
+        _contact_accel(P, modified, q, qd, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
+                       revolute, rows, gains, mu, anchors, anchored, out, total, contact, a1, held, work)
+        if not all_finite(a1):
+            return BAD_ACCEL
+    qdd1[:] = a1
+    if not rk4:
+        euler_combine(h, q, qd, a1, q1, qd1)
+        return OK
+    for stage in range(3):  # stages 2, 3, 4 of RK4
+        prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
+        acc = a2 if stage == 0 else (a3 if stage == 1 else a4)
+        rk4_stage(h if stage == 2 else 0.5 * h, q, qd, prev, qd if stage == 0 else vs, qs, vs)
+        if not (all_finite(qs) and all_finite(vs)):
+            return BAD_STATE
+        _contact_accel(P, modified, qs, vs, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body,
+                       axis_frame, revolute, rows, gains, mu, anchors, anchored, out, total, contact, acc, held, work)
+        if not all_finite(acc):
+            return BAD_ACCEL
+    rk4_combine(h, q, qd, a1, a2, a3, a4, q1, qd1)
+    return OK

@@ -23,7 +23,8 @@ One step of length h, in this order:
 3. Forward dynamics (``dynamics.forward_dynamics``) with the optional pull force at the tool (a spring toward a point,
    see :meth:`Simulation.set_pull`), integrated by semi-implicit (symplectic) Euler —
    ``qd += h·qdd(q, qd); q += h·qd`` — or classical RK4.
-   Joint limits are stops consistent with the mass matrix (``joint_stops``): a step that
+   Joint limits are stops consistent with the mass matrix (the one stop resolver of
+   robot_sim/sim/stops.py over ``joint_stops``, shared with ``BatchSimulation``): a step that
    would carry a joint past its limit is cut at the instant it arrives (the step length
    found by Newton's method on the integrator's own step, to 1e-12 rad or m), the stops
    apply the impact impulse over the joints they touch (inelastic unless ``restitution``
@@ -33,18 +34,20 @@ One step of length h, in this order:
    integrates the dynamics with that joint's row and column removed, and
    :attr:`Simulation.limit_torque` is the stop's reaction torque.  It is released when
    the reaction would pull (checked at the start of every step).  A step resting on
-   stops is one call of the compiled step like a free one (``dynamics.Stepper`` with
+   stops is one call of the compiled step like a free one (``Stepper`` with
    ``stops``: the held rows solved inside it); arrivals, impacts and releases go through
-   ``joint_stops``.  Steps that touch no stop are computed exactly as without stops.
+   the stop resolver, whose outcome is a ``StopOutcome``.  Steps that touch no stop are
+   computed exactly as without stops.
 4. Velocity limits: the drive brakes a joint at its velocity limit (``qd`` clipped).
 
 Contact (``checker=``, a :class:`~robot_sim.collision.CollisionChecker` of the robot):
 links that meet an obstacle, the floor or each other get penalty contact forces
-(:mod:`robot_sim.collision.contact`, Coulomb friction ``friction``).  At the start of a
+(:mod:`robot_sim.sim.contact`, Coulomb friction ``friction``).  At the start of a
 step the pairs near contact are chosen and their gains and friction anchors fixed; the
 contact torque then enters the dynamics at every stage of the integrator, as a
-function of that stage's (q, qd).  Steps with no pair near contact are computed exactly
-as without contact.
+function of that stage's (q, qd): one compiled call (``ContactModel.step``) unless a
+pull, a tool wrench or a continuous-time controller acts too.  Steps with no pair near
+contact are computed exactly as without contact.
 
 A step whose state or effort is not finite (or whose mass matrix cannot be solved)
 does not happen: the simulation keeps the last finite state, stops, and
@@ -57,7 +60,6 @@ from __future__ import annotations
 
 import math
 import time as _time
-from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
@@ -65,71 +67,25 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
 from robot_sim.collision.checker import CollisionChecker
-from robot_sim.collision.contact import DEFAULT_FRICTION, ContactForce, ContactModel
-from robot_sim.control import joint_stops
-from robot_sim.control.controllers import ComputedTorque, Controller, Passive
+from robot_sim.control.controllers import Controller, Integrated, Passive, StepContext
 from robot_sim.control.reference import Desired, Reference, task_from_joints
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
+from robot_sim.sim import stepper as stepping
+from robot_sim.sim.contact import DEFAULT_FRICTION, ContactForce, ContactModel
+from robot_sim.sim.stepper import INTEGRATORS, StageAccel, StepDiverged, Stepper, raise_for, runge_kutta, step_one_arm
+from robot_sim.sim.stops import LimitEvent, Resolved, StepPhysics, StopOutcome, StopResolver
 
 FloatArray = NDArray[np.float64]
-#: A stage's joint acceleration from (time offset in the step [s], q, q̇).
-_StageAccel = Callable[[float, FloatArray, FloatArray], FloatArray]
-
-
-def runge_kutta(
-    integrator: str, q: FloatArray, qd: FloatArray, h: float, a1: FloatArray, accel: _StageAccel
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """(q, qd) after a step of ``h`` [s] of ``integrator`` ("rk4" or "euler":
-    semi-implicit) from (q, qd) (n,) or (N, n) with start acceleration ``a1``, and a1;
-    ``accel(offset, q, qd)`` gives a later stage's acceleration, ``offset`` its time in
-    the step."""
-    if integrator == "euler":
-        qd1 = qd + h * a1
-        return q + h * qd1, qd1, a1
-    v2 = qd + 0.5 * h * a1
-    a2 = accel(0.5 * h, q + 0.5 * h * qd, v2)
-    v3 = qd + 0.5 * h * a2
-    a3 = accel(0.5 * h, q + 0.5 * h * v2, v3)
-    v4 = qd + h * a3
-    a4 = accel(h, q + h * v3, v4)
-    q1 = q + (h / 6.0) * (qd + 2.0 * (v2 + v3) + v4)
-    qd1 = qd + (h / 6.0) * (a1 + 2.0 * (a2 + a3) + a4)
-    return q1, qd1, a1
 
 DEFAULT_DT = 1e-3
-INTEGRATORS = dynamics.INTEGRATORS
 #: At most this much simulated time per :meth:`Simulation.advance` call [s]: when the
 #: computation falls behind the wall clock, the simulation slows down (real-time factor
 #: below 1) instead of trying to catch up with ever longer bursts.
 DEFAULT_MAX_LAG = 0.1
 #: Wall-clock span over which the real-time factor is averaged [s].
 RTF_WINDOW = 0.5
-#: Arrivals slower than this [rad/s or m/s] are inelastic whatever the restitution, and
-#: joints an impact would leave moving off their stops slower than this are held
-#: (``joint_stops.impact``'s ``hold_speed``): bounces and knocks that small would only
-#: start infinitely many ever smaller ones in finite time.
-BOUNCE_MIN_SPEED = 1e-2
-#: An arrival is located when the joint is within this distance of its stop [rad or m];
-#: it is then put exactly on the stop.
-ARRIVAL_TOLERANCE = 1e-12
-#: Newton (bisection when it leaves the bracket) iterations to locate an arrival.
-LOCATE_ITERATIONS = 60
-
-
-@dataclass(frozen=True)
-class LimitEvent:
-    """Joint ``joint`` (0-based) reached its ``side`` (``"min"`` or ``"max"``) limit
-    ``q`` [rad or m] at simulated time ``time`` [s], and its stop applied the joint impulse
-    ``impulse`` [N·m·s or N·s] (positive pushes toward larger q; zero for an arrival at
-    zero speed)."""
-
-    time: float
-    joint: int
-    side: str
-    q: float
-    impulse: float = 0.0
 
 
 def drive_limits(robot: RobotParams) -> tuple[FloatArray, FloatArray]:
@@ -144,21 +100,6 @@ def drive_limits(robot: RobotParams) -> tuple[FloatArray, FloatArray]:
 def stop_message(time: float, reason: str) -> str:
     """What :attr:`Simulation.stopped` says when a step at ``time`` [s] failed for ``reason``."""
     return f"simulation stopped at t = {time:.3f} s: {reason}; kept the last finite state"
-
-
-_ONE_TRUE = np.ones(1, dtype=bool)  # "the start acceleration is known" for one arm
-
-
-class _Diverged(Exception):
-    """A step produced a non-finite or unsolvable state; the message says which."""
-
-
-def _raise_for(status: int) -> None:
-    """_Diverged for a failed ``dynamics.Stepper`` status."""
-    if status == dynamics.STEP_BAD_STATE:
-        raise _Diverged("the joint state became non-finite")
-    if status == dynamics.STEP_BAD_ACCEL:
-        raise _Diverged("the joint acceleration became non-finite")
 
 
 def _finite(a: FloatArray) -> bool:
@@ -217,6 +158,7 @@ class Simulation:
         self.dt = float(dt)
         self.max_lag = float(max_lag)
         self.integrator = integrator
+        self._stops = StopResolver(robot)  # the one stop resolver (shared with BatchSimulation's code)
         self.restitution = restitution
         self.reference = reference
         n = robot.n_dofs
@@ -224,8 +166,6 @@ class Simulation:
         self._limit_effort = bool(np.isfinite(self.effort_limit).any())
         self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
         self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
-        self._max_arrivals = 4 * n + 4  # per step: more means the stops cannot resolve it
-        self._point_ranges = bool((robot.q_min == robot.q_max).any())  # joints held both ways
         #: Simulated time [s] and number of steps taken.
         self.time = 0.0
         self.steps = 0
@@ -240,8 +180,7 @@ class Simulation:
         self.at_limit = np.zeros(n, dtype=bool)
         #: Reaction torque [N·m or N] of the stops holding joints at the start of the last
         #: step (zero for free joints): M q̈ = τ − C q̇ − g (…) + limit_torque.
-        self.limit_torque = self._no_reaction = np.zeros(n)
-        self._no_reaction.flags.writeable = False
+        self.limit_torque = self._no_reaction = self._stops.no_reaction
         #: Applied (saturated) and commanded effort of the last step [N·m or N].
         self.effort = np.zeros(n)
         self.effort_command = np.zeros(n)
@@ -255,9 +194,11 @@ class Simulation:
         self._pull: tuple[FloatArray, float, float] | None = None
         self._pull_kin: tuple[Kinematics, RobotState] | None = None
         self.pull_force = np.zeros(3)
-        self._stepper: dynamics.Stepper | None = None
+        self._stepper: Stepper | None = None
         self._wrench: FloatArray | None = None
-        self._unsaturated = np.zeros(robot.n_dofs, dtype=bool)  # never written
+        #: The bytes of the state's desired joint values, rates and accelerations, and those
+        #: (q, q̇, q̈) as read then.
+        self._desired_joints: tuple[bytes, tuple] | None = None
         #: The desired joints (q, q̇, q̈) last followed in task space and their tool motion.
         self._task_of_joints: tuple | None = None
         #: The desired tool pose (4, 4) of the last step under a task-space controller.
@@ -296,7 +237,7 @@ class Simulation:
     def restitution(self, value: float) -> None:
         if not (isinstance(value, (int, float)) and 0.0 <= value <= 1.0):
             raise ValueError(f"restitution must be a number in [0, 1], got {value!r}")
-        self._restitution = float(value)
+        self._restitution = self._stops.restitution = float(value)
 
     def load_state(self) -> None:
         """Take the current q and qd from the RobotState (after it was set from outside,
@@ -310,14 +251,13 @@ class Simulation:
         self._pending = 0.0
         if self.contact is not None:
             self.contact.reset()
-        self._published = (self.state.q(), self.state.qd())
+        self._published = self.state.joint_state.motion_snapshot()
         self.controller.reset(self.q.copy(), self.dt)
 
     def _follow_state(self) -> None:
         """The RobotState is the one source of truth: when its q or qd were set from outside
         since this loop last wrote them (``sim.state.set_q(q)``), the next step starts there."""
-        if not (np.array_equal(self.state.q(), self._published[0])
-                and np.array_equal(self.state.qd(), self._published[1])):
+        if self.state.joint_state.motion_snapshot() != self._published:
             self.load_state()
 
     def set_pull(self, point: ArrayLike, stiffness: float, damping: float = 0.0) -> None:
@@ -393,7 +333,7 @@ class Simulation:
             for _ in range(n_steps):
                 try:
                     desired = self._step(desired_at)
-                except (_Diverged, np.linalg.LinAlgError) as exc:
+                except (StepDiverged, np.linalg.LinAlgError) as exc:
                     self.stopped = stop_message(self.time, str(exc))
                     break
                 taken += 1
@@ -408,7 +348,10 @@ class Simulation:
         space = self.controller.space
         if self._reference is not None:
             return self._reference.for_space(space)
-        fixed = (self.state.q_des(), self.state.qd_des(), self.state.qdd_des())
+        snapshot = self.state.joint_state_des.motion_snapshot(accelerations=True)
+        if self._desired_joints is None or self._desired_joints[0] != snapshot:  # read once per change
+            self._desired_joints = (snapshot, (self.state.q_des(), self.state.qd_des(), self.state.qdd_des()))
+        fixed = self._desired_joints[1]
         if space == "task":  # the tool motion of the same joints as last call is not recomputed
             cached = self._task_of_joints
             if cached is None or not all(np.array_equal(a, b) for a, b in zip(cached[0], fixed)):
@@ -424,78 +367,82 @@ class Simulation:
         controller = self.controller
         self._touching = self.contact is not None and self.contact.begin_step(q, qd, self.dt)
         alone = self._pull is None and self._wrench is None and not self._touching  # nothing but the effort acts
-        if controller.continuous and not self._any_at_limit and alone:
-            fused = controller.integrate(q, qd, t, self.dt, self._integrator, desired_at, self.effort_limit)
-            if fused is not None:  # the whole step in one call of the controller, within every limit
-                q1, qd1, qdd, tau, crossed = fused
-                stops = None
-                if crossed:
-                    q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
-                self._finish(q1, qd1, qdd, tau, tau, self._unsaturated, stops)
-                return desired
-        step = None
-        if type(controller) is ComputedTorque and controller.robot is self.robot and alone:
-            # the control law inside the step call: one compiled call for both
-            q_des, qd_des, qdd_des = desired
-            if not type(q_des) is type(qd_des) is type(qdd_des) is np.ndarray:  # a reference's lists
-                q_des, qd_des, qdd_des = (np.asarray(x, dtype=float) for x in desired)
-            step = self._stepper_of().step_computed_torque(
-                q[None], qd[None], q_des[None], qd_des[None], qdd_des[None], controller.kp, controller.kd,
-                self.effort_limit, stops=self._limit_position,
-            )
-            command = step.command[0].copy()
-            if step.status[0] == dynamics.STEP_BAD_EFFORT:  # the controller names bad input or says why
-                command, step = controller.torque(q, qd, *desired), None
+        taken = None
+        if alone and controller.integrates:  # the controller may take the whole step, its law inside the compiled step
+            taken = controller.integrate(q, qd, StepContext(
+                t, self.dt, self._integrator, desired_at, desired, self.effort_limit, self._stepper_of(),
+                self._limit_position, self._any_at_limit,
+            ))
+        if taken is not None:
+            command = taken.command
         else:
             command = controller.torque(q, qd, *desired)
-        if step is None and not _finite(command):  # (the fused step checked its command)
-            raise _Diverged(f"the {controller.mode} controller returned a non-finite effort {command}")
+            if not _finite(command):
+                raise StepDiverged(f"the {controller.mode} controller returned a non-finite effort {command}")
         saturated = np.abs(command) > self.effort_limit if self._limit_effort else self.saturated
         tau = np.clip(command, -self.effort_limit, self.effort_limit) if saturated.any() else command
+        if taken is not None:
+            q1, qd1, qdd, stops = self._resolve(q, qd, tau, taken)
+            self._finish(q1, qd1, qdd, command, tau, saturated, stops)
+            return desired
         f_tool = self._tool_wrench(q, qd)
         # The first stage's acceleration is known when the controller's model is the
         # simulated robot and nothing else acts (computed torque: its reference
         # acceleration, to round-off), which saves one forward dynamics per step.
         known = None
         plain = f_tool is None and not self._touching  # nothing but the effort acts
-        if step is None and tau is command and plain and getattr(controller, "robot", None) is self.robot:
+        if tau is command and plain and getattr(controller, "robot", None) is self.robot:
             known = controller.commanded_acceleration()
         stops = None
-        if step is None and controller.continuous and not self._any_at_limit:  # the law at every stage
+        if controller.continuous and not self._any_at_limit:  # the law at every stage
             if known is None or not _finite(known):
                 known = self._accel(q, qd, tau, f_tool)
             q1, qd1, qdd = runge_kutta(self._integrator, q, qd, self.dt, known, self._continuous_accel(desired_at, t, f_tool))
-            if self._limit_position and self._crosses(q1):
-                q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
-        elif step is not None or plain:  # one stepper call; it holds joints resting on their stops itself
-            if step is None:
-                step = self._stepper_of().step(
-                    q[None], qd[None], tau[None], None if known is None else known[None], _ONE_TRUE,
-                    stops=self._limit_position,
-                )
-            status = step.status[0]
-            if status == dynamics.STEP_AT_STOP:
-                q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, None)
-            else:
-                _raise_for(status)
-                q1, qd1, qdd = step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
-                if status == dynamics.STEP_CROSSED:
-                    q1, qd1, _, *stops = self._through_stops(q, qd, tau, None, (q1, qd1, qdd))
-                elif self._any_at_limit or status == dynamics.STEP_ON_LIMIT:
-                    reaction = step.reaction[0].copy() if self._any_at_limit else self._no_reaction
-                    stops = [reaction, (), step.at_limit[0].copy(), bool(status == dynamics.STEP_ON_LIMIT)]
+            if self._limit_position and self._stops.crosses(q1):
+                q1, qd1, _, stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
+        elif plain:  # one stepper call; it holds joints resting on their stops itself
+            step = self._stepper_of().step(
+                q[None], qd[None], tau[None], None if known is None else known[None], stepping.ONE_KNOWN,
+                stops=self._limit_position,
+            )
+            status = int(step.status[0])
+            held = self._any_at_limit or status == stepping.STEP_ON_LIMIT
+            q1, qd1, qdd, stops = self._resolve(q, qd, tau, Integrated(
+                step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy(), command, status,
+                step.reaction[0].copy() if held else None, step.at_limit[0].copy() if held else None,
+            ))
         elif self._any_at_limit:
-            q1, qd1, qdd, *stops = self._through_stops(q, qd, tau, f_tool)
+            q1, qd1, qdd, stops = self._through_stops(q, qd, tau, f_tool)
         else:
             q1, qd1, qdd = self._stepped(q, qd, tau, f_tool)[0]
-            if self._limit_position and self._crosses(q1):
-                q1, qd1, _, *stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
+            if self._limit_position and self._stops.crosses(q1):
+                q1, qd1, _, stops = self._through_stops(q, qd, tau, f_tool, (q1, qd1, qdd))
         self._finish(q1, qd1, qdd, command, tau, saturated, stops)
         return desired
 
+    def _resolve(
+        self, q: FloatArray, qd: FloatArray, tau: FloatArray, taken: Integrated
+    ) -> tuple[FloatArray, FloatArray, FloatArray, StopOutcome | None]:
+        """(q, q̇) at the end of a step taken in one call (the stepper's, or a controller's
+        with its law inside) from (q, q̇) with effort tau, its start's q̈, and the stops'
+        outcome (None: no stop touched): by the stop resolver where the step was not
+        taken from a start on a stop (AT_STOP) or crossed a limit (CROSSED); from the
+        stops held inside the step where joints rest on them."""
+        status = taken.status
+        if status == stepping.STEP_AT_STOP:
+            return self._through_stops(q, qd, tau, None)
+        raise_for(status)
+        if status == stepping.STEP_CROSSED:
+            resolved = self._through_stops(q, qd, tau, None, (taken.q, taken.qd, taken.qdd))
+            return resolved.q, resolved.qd, taken.qdd, resolved.outcome
+        if taken.at_limit is not None and (self._any_at_limit or status == stepping.STEP_ON_LIMIT):
+            reaction = taken.reaction if self._any_at_limit else self._no_reaction
+            return taken.q, taken.qd, taken.qdd, StopOutcome(reaction, (), taken.at_limit)
+        return taken.q, taken.qd, taken.qdd, None
+
     def _finish(
         self, q1: FloatArray, qd1: FloatArray, qdd: FloatArray, command: FloatArray, tau: FloatArray,
-        saturated: NDArray[np.bool_], stops: list | None,
+        saturated: NDArray[np.bool_], stops: StopOutcome | None,
     ) -> None:
         """End a step at (q1, qd1): velocity limits, finiteness, the stops' outcome, the
         step's record."""
@@ -504,16 +451,15 @@ class Simulation:
             velocity_limited = np.abs(qd1) > self.velocity_limit
             qd1 = np.clip(qd1, -self.velocity_limit, self.velocity_limit)
         if not (_finite(q1) and _finite(qd1)):
-            raise _Diverged("the joint state became non-finite")
+            raise StepDiverged("the joint state became non-finite")
         if stops is not None:
-            self.limit_torque, events, *at_limit = stops
-            if events:
-                self.events.extend(events)
-            if at_limit:  # the stepper's flags and whether any is set
-                self.at_limit, self._any_at_limit = at_limit
-            else:
-                self.at_limit = (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
-                self._any_at_limit = bool(self.at_limit.any())
+            self.limit_torque = stops.reaction
+            if stops.events:
+                self.events.extend(stops.events)
+            at_limit = stops.at_limit
+            if at_limit is None:
+                at_limit = (q1 == self.robot.q_min) | (q1 == self.robot.q_max)
+            self.at_limit, self._any_at_limit = at_limit, bool(at_limit.any())
         self.q, self.qd, self.qdd = q1, qd1, qdd
         self.effort_command, self.effort = command, tau
         self.saturated = saturated
@@ -521,7 +467,7 @@ class Simulation:
         self.time += self.dt
         self.steps += 1
 
-    def _continuous_accel(self, desired_at: Callable[[float], Desired], t: float, f_tool: FloatArray | None) -> _StageAccel:
+    def _continuous_accel(self, desired_at: Callable[[float], Desired], t: float, f_tool: FloatArray | None) -> StageAccel:
         """Stage accelerations of a continuous controller, evaluated at each stage's state
         and time: its own closed-loop acceleration when its model is the robot and nothing
         else acts (no pull, no effort limit to check), else forward dynamics of its
@@ -535,11 +481,11 @@ class Simulation:
                 qdd = controller.acceleration(q, qd, *desired)
                 if qdd is not None:
                     if not _finite(qdd):
-                        raise _Diverged("the joint acceleration became non-finite")
+                        raise StepDiverged("the joint acceleration became non-finite")
                     return qdd
             tau = controller.torque(q, qd, *desired)
             if not _finite(tau):
-                raise _Diverged(f"the {controller.mode} controller returned a non-finite effort {tau}")
+                raise StepDiverged(f"the {controller.mode} controller returned a non-finite effort {tau}")
             clipped = self._limit_effort and bool((np.abs(tau) > self.effort_limit).any())
             if clipped:
                 tau = np.clip(tau, -self.effort_limit, self.effort_limit)
@@ -568,9 +514,9 @@ class Simulation:
         except ValueError:  # refused a stage state that overflowed (finite rates, huge values)
             if _finite(q) and _finite(qd):
                 raise
-            raise _Diverged("the joint state became non-finite") from None
+            raise StepDiverged("the joint state became non-finite") from None
         if not _finite(qdd):
-            raise _Diverged("the joint acceleration became non-finite")
+            raise StepDiverged("the joint acceleration became non-finite")
         return qdd, torque
 
     def _accel(
@@ -578,11 +524,11 @@ class Simulation:
     ) -> FloatArray:
         return self._dynamics(q, qd, tau, f_tool, held)[0]
 
-    def _stepper_of(self) -> dynamics.Stepper:
+    def _stepper_of(self) -> Stepper:
         """The one-arm stepper of this simulation's robot and integrator (made on first use)."""
         stepper = self._stepper
         if stepper is None or stepper.dt != self.dt or stepper.method != self._integrator:
-            stepper = self._stepper = dynamics.Stepper(self.robot, 1, self.dt, self._integrator)
+            stepper = self._stepper = Stepper(self.robot, 1, self.dt, self._integrator)
         return stepper
 
     def _stepped(
@@ -600,14 +546,10 @@ class Simulation:
         stops' reaction at the start (None without locked joints)."""
         if h is None:
             h = self.dt
-        if f_tool is None and not self._touching:  # one call of the dynamics.Stepper
-            step = self._stepper_of().step(
-                q[None], qd[None], tau[None], None if a1 is None else a1[None], _ONE_TRUE,
-                held=None if locked is None else locked[None], dt=h,
-            )
-            _raise_for(step.status[0])
-            reaction = None if locked is None else step.reaction[0].copy()
-            return (step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()), reaction
+        if f_tool is None and not self._touching:  # one call of the Stepper
+            return step_one_arm(self._stepper_of(), q, qd, tau, a1, h, locked)
+        if f_tool is None and locked is None:  # in contact: one compiled call, the contact torque at every stage
+            return self.contact.step(q, qd, tau, a1, h, self._integrator == "rk4", self._stepper_of().gravity), None
         reaction = None
         if a1 is None or locked is not None or not _finite(a1):
             a1, reaction = self._dynamics(q, qd, tau, f_tool, locked)
@@ -615,35 +557,6 @@ class Simulation:
 
 
     # ------------------------------------------------------------------ joint stops
-    def _crosses(self, q: FloatArray) -> bool:
-        """True if some joint is beyond a limit."""
-        return bool(((q < self.robot.q_min) | (q > self.robot.q_max)).any())
-
-    def step_through_stops(
-        self,
-        time: float,
-        q: FloatArray,
-        qd: FloatArray,
-        tau: FloatArray,
-        trial: tuple[FloatArray, FloatArray, FloatArray] | None = None,
-    ) -> tuple[FloatArray, FloatArray, FloatArray | None, FloatArray, list[LimitEvent]] | str:
-        """One step of this simulation's robot, dt and integrator from (q, qd) at simulated
-        ``time`` with effort ``tau`` (no pull), for a step that touches stops: ``trial``,
-        the free step's (q, qd, q̈) when it crossed a limit, or None when the step starts
-        on a stop.  Returns (q, qd, q̈ at the start or None to keep the trial's, stop
-        reactions, arrivals) — what :meth:`step` does there, for ``BatchSimulation``'s
-        environments that touch a stop — or the reason the step cannot be taken.  The
-        simulation's own state is not changed."""
-        saved = self.time
-        self.time = time
-        try:
-            q1, qd1, qdd, reaction, events = self._through_stops(q, qd, tau, None, trial)
-        except (_Diverged, np.linalg.LinAlgError) as exc:
-            return str(exc)
-        finally:
-            self.time = saved
-        return q1, qd1, None if trial is not None else qdd, reaction, events
-
     def _through_stops(
         self,
         q: FloatArray,
@@ -651,146 +564,17 @@ class Simulation:
         tau: FloatArray,
         f_tool: FloatArray | None,
         trial: tuple[FloatArray, FloatArray, FloatArray] | None = None,
-    ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, list[LimitEvent]]:
-        """One step that touches stops: (q, qd) after it, the acceleration at its start,
-        the stops' reaction torque at its start and the arrivals.  ``trial`` is the free
+    ) -> Resolved:
+        """One step that touches stops, by the one stop resolver (robot_sim/sim/stops.py)
+        with this step's physics (contact and tool wrench included).  ``trial`` is the free
         step from (q, qd) when it was already taken (and crossed a limit); without it the
         step starts on a stop."""
-        lo, hi = self.robot.q_min, self.robot.q_max
-        events: list[LimitEvent] = []
-        reaction, locked, a1 = self._no_reaction, None, None
-        elapsed, h = 0.0, self.dt
-        if trial is None:
-            push = joint_stops.stop_push(q, lo, hi)
-            on = (q == lo) | (q == hi)
-            if (push * qd < 0.0).any() or self._point_ranges:  # set (load_state) or landed on a stop, moving into it
-                into = on & (qd != 0.0) & (push * qd <= 0.0)
-                if into.any():
-                    qd = self._impact(q, qd, push, on, into, 0.0, events)
-            locked, trial, reaction = self._rest(q, qd, tau, f_tool, push, on, h)
-        qdd = None
-        for _ in range(self._max_arrivals):
-            if trial is None:
-                trial = self._stepped(q, qd, tau, f_tool, None, h, locked)[0]
-            q1, qd1, a1 = trial
-            if qdd is None:
-                qdd = a1
-            if not self._crosses(q1):
-                return q1, qd1, qdd, reaction, events
-            s, q1, qd1, arriving = self._locate(q, qd, tau, f_tool, a1, h, locked, q1, qd1)
-            elapsed += s * h
-            h -= s * h
-            push = joint_stops.stop_push(q1, lo, hi)
-            on = (q1 == lo) | (q1 == hi)
-            q, qd = q1, self._impact(q1, qd1, push, on, arriving, elapsed, events)
-            if h <= 0.0:
-                return q, qd, qdd, reaction, events
-            locked, trial, _ = self._rest(q, qd, tau, f_tool, push, on, h)
-        raise _Diverged(f"more than {self._max_arrivals} joint stop arrivals in one step")
-
-    def _rest(
-        self,
-        q: FloatArray,
-        qd: FloatArray,
-        tau: FloatArray,
-        f_tool: FloatArray | None,
-        push: FloatArray,
-        on: NDArray[np.bool_],
-        h: float,
-    ) -> tuple[NDArray[np.bool_] | None, tuple[FloatArray, FloatArray, FloatArray] | None, FloatArray]:
-        """Which joints on a stop at rest the stops hold (None: none), the step of length h
-        from (q, qd) with them held (None: not taken yet) and the stops' reaction torque.
-        Holding every candidate is the answer when every reaction pushes (one step with
-        them held, the common case of a joint that stays); otherwise
-        ``joint_stops.hold`` solves the complementarity problem."""
-        candidates = on & (qd == 0.0)
-        if not candidates.any():
-            return None, None, self._no_reaction
-        trial, reaction = self._stepped(q, qd, tau, f_tool, None, h, candidates)
-        if (push * reaction >= 0.0).all():
-            return candidates, trial, reaction
-        M = dynamics.mass_matrix(self.robot, q)
-        rhs = self._with_contact(q, qd, tau) - dynamics.bias_torque(self.robot, q, qd, f_tool=f_tool)
-        _, reaction, locked = joint_stops.hold(M, rhs, push, candidates)
-        if not locked.any():
-            return None, None, self._no_reaction
-        return locked, None, reaction
-
-    def _impact(
-        self,
-        q: FloatArray,
-        qd: FloatArray,
-        push: FloatArray,
-        on: NDArray[np.bool_],
-        arriving: NDArray[np.bool_],
-        elapsed: float,
-        events: list[LimitEvent],
-    ) -> FloatArray:
-        """Velocities after the stops' impact at (q, qd); the ``arriving`` joints' events
-        (at ``elapsed`` seconds into the step) appended to ``events``."""
-        speed = float(np.abs(qd[arriving]).max()) if arriving.any() else 0.0
-        restitution = self._restitution if speed > BOUNCE_MIN_SPEED else 0.0
-        M = dynamics.mass_matrix(self.robot, q)
-        after, impulse, _ = joint_stops.impact(M, qd, push, on, restitution, BOUNCE_MIN_SPEED)
-        for j in np.flatnonzero(arriving):
-            side = "min" if q[j] == self.robot.q_min[j] else "max"
-            events.append(LimitEvent(self.time + elapsed, int(j), side, float(q[j]), float(impulse[j])))
-        return after
-
-    def _locate(
-        self,
-        q: FloatArray,
-        qd: FloatArray,
-        tau: FloatArray,
-        f_tool: FloatArray | None,
-        a1: FloatArray,
-        h: float,
-        locked: NDArray[np.bool_] | None,
-        q1: FloatArray,
-        qd1: FloatArray,
-    ) -> tuple[float, FloatArray, FloatArray, NDArray[np.bool_]]:
-        """The first arrival within the step (q, qd) → (q1, qd1) of length h, which took a
-        joint past a limit: the fraction s of the step, (q, qd) there with the arriving
-        joints put exactly on their stops, and those joints.  Newton's method on the
-        integrator's step length (the derivative of q(s·h) is h·q̇), bisection where
-        Newton leaves the bracket."""
-        lo, hi = self.robot.q_min, self.robot.q_max
-        s_lo, s, target, side = 0.0, 1.0, -1, 1.0
-        crossed = (1.0, q1, qd1)
-        for _ in range(LOCATE_ITERATIONS):
-            below, above = q1 - lo, hi - q1
-            depth = np.minimum(below, above)
-            if locked is not None:
-                depth[locked] = np.inf
-            deepest = int(np.argmin(depth))
-            if target < 0 or depth[deepest] < -ARRIVAL_TOLERANCE:  # (the full step always sets the target)
-                target, side = deepest, (1.0 if below[deepest] < above[deepest] else -1.0)
-            distance = below[target] if side > 0 else above[target]
-            if depth[deepest] < -ARRIVAL_TOLERANCE:
-                crossed = (s, q1, qd1)
-            elif distance > ARRIVAL_TOLERANCE:
-                s_lo = s
-            else:
-                break
-            rate = side * h * qd1[target]
-            s_new = s - distance / rate if rate < 0.0 else -1.0
-            if not s_lo < s_new < crossed[0]:
-                s_new = 0.5 * (s_lo + crossed[0])
-            s = float(s_new)
-            q1, qd1, _ = self._stepped(q, qd, tau, f_tool, a1, s * h, locked)[0]
-        else:
-            s, q1, qd1 = crossed  # bracket closed on a grazing arrival: take its end
-        q1 = q1.copy()
-        free = np.ones(q1.shape, dtype=bool) if locked is None else ~locked
-        at_lo = free & (q1 - lo <= ARRIVAL_TOLERANCE) & (qd1 <= 0.0)
-        at_hi = free & (hi - q1 <= ARRIVAL_TOLERANCE) & (qd1 >= 0.0)
-        if side > 0:
-            at_lo[target] = True
-        else:
-            at_hi[target] = True
-        q1[at_lo] = lo[at_lo]
-        q1[at_hi] = hi[at_hi]
-        return s, q1, qd1, at_lo | at_hi
+        physics = StepPhysics(
+            stepped=lambda qs, qds, effort, a1, h, locked: self._stepped(qs, qds, effort, f_tool, a1, h, locked),
+            rhs=lambda qs, qds, effort: self._with_contact(qs, qds, effort)
+            - dynamics.bias_torque(self.robot, qs, qds, f_tool=f_tool),
+        )
+        return self._stops.resolve(self.time, self.dt, q, qd, tau, physics, trial)
 
     @property
     def contact_forces(self) -> list[ContactForce]:
@@ -822,11 +606,8 @@ class Simulation:
         step: with a joint reference into the state, a task controller's pose into
         :attr:`desired_pose`."""
         state = self.state
-        state.set_q(self.q)
-        state.set_qd(self.qd)
-        state.set_qdd(self.qdd)
-        state.joint_state.set_u(self.effort)
-        self._published = (state.q(), state.qd())
+        state.write_motion(self.q, self.qd, self.qdd, self.effort)
+        self._published = state.joint_state.motion_snapshot()
         if desired is None:
             return
         self.desired_pose = desired[0] if self.controller.space == "task" else None

@@ -33,13 +33,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim import dynamics
+from robot_sim.kernels import chain
 from robot_sim.model.params import JTYPE_REVOLUTE
 from robot_sim.model.state import check_joint_vector
 
 from robot_sim.collision import batch
-from robot_sim.collision import contact_kernels as K
 from robot_sim.collision.checker import CollisionChecker
 from robot_sim.collision.path import lever_arms
+from robot_sim.sim import contact_kernels as K
+from robot_sim.sim.stepper import raise_for
 
 FloatArray = NDArray[np.float64]
 
@@ -78,9 +80,9 @@ class ContactModel:
     :data:`DEFAULT_FRICTION`).
 
     Stepping: :meth:`begin_step` at the start of every step (it picks the active pairs,
-    sets their gains and moves the friction anchors of slipping ones), then
-    :meth:`torque` at every stage state of the integrator, with the same gains and
-    anchors throughout the step.
+    sets their gains and moves the friction anchors of slipping ones), then :meth:`step`
+    (the whole step in one compiled call) or :meth:`torque` at every stage state of the
+    integrator, with the same gains and anchors throughout the step.
     """
 
     def __init__(self, checker: CollisionChecker, *, friction: float = DEFAULT_FRICTION) -> None:
@@ -140,6 +142,10 @@ class ContactModel:
         batch.pair_results(q, *scene.args(), self._pairs, scene.verts, margin, d, pts, nrm,
                            np.empty_like(scene.recs0))
         near = np.flatnonzero(d < margin)
+        if np.array_equal(near, self._active):  # the same pairs as in the last step: gains and anchors stay
+            if near.size and self.friction > 0.0:
+                self._evaluate(q, qd, update=True)
+            return near.size > 0
         previous = {int(p): k for k, p in enumerate(self._active)}
         A = near.size
         gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
@@ -167,6 +173,26 @@ class ContactModel:
         if self._active.size == 0:
             return np.zeros(self.robot.n_dofs)
         return self._evaluate(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float))
+
+    def step(self, q: FloatArray, qd: FloatArray, tau: FloatArray, a1: FloatArray | None, h: float, rk4: bool,
+             g0: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """One step of length ``h`` [s] from (q, q̇) (n,) with the effort tau held, the
+        contact torque of this step's active pairs at every stage (one compiled call,
+        :func:`.contact_kernels.contact_step`; RK4 when ``rk4``, else semi-implicit
+        Euler; gravity ``g0`` in frame 0; ``a1`` the start's acceleration when known):
+        (q, q̇) after it and the start's acceleration.  StepDiverged if a stage state or
+        acceleration is not finite."""
+        scene = self.checker.scene
+        n = self.robot.n_dofs
+        q1, qd1, qdd1 = np.empty(n), np.empty(n), np.empty(n)
+        status = K.contact_step(
+            scene.dh, rk4, h, q, qd, tau, qd if a1 is None else a1, a1 is not None, g0, scene.world0, scene.link,
+            scene.local, scene.recs0, scene.kinds, scene.bc, scene.br, scene.verts, self._body, self._axis_frame,
+            self._revolute, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._out, q1, qd1,
+            qdd1,
+        )
+        raise_for(status)
+        return q1, qd1, qdd1
 
     @property
     def forces(self) -> list[ContactForce]:
@@ -210,7 +236,7 @@ class ContactModel:
     def _frames(self, q: FloatArray) -> None:
         """World frames 0..n at q into self._F (for the gains' Jacobians)."""
         scene = self.checker.scene
-        batch.link_frames(q, scene.dh, self.robot.is_modified, scene.world0, self._F)
+        chain.frames(scene.dh, self.robot.is_modified, scene.world0, q, self._F)
 
     def _gains_at(self, M: FloatArray, p: int, points: FloatArray, normal: FloatArray, dt: float) -> FloatArray:
         """[k_n, c_n, k_t, c_t] of pair p: the normal gains from its effective mass along

@@ -3,7 +3,7 @@ batches, summarised as a table of metrics.
 
 :func:`sweep` turns a grid (``{"kp": [100, 200], "damping": [0.7, 1.0]}``: every
 combination) or a list of samples (``[{"kp": 100, "q0": q}, ...]``) into runs, cuts them
-into chunks and runs each chunk as one :class:`~robot_sim.control.batch.BatchSimulation`:
+into chunks and runs each chunk as one :class:`~robot_sim.sim.batch.BatchSimulation`:
 on the local cores by default (one process per core), or as tasks of a
 ``dask.distributed`` ``Client`` when one is given.  A run's result depends on nothing but
 its own parameters (the batch equals single simulations bit for bit), so the table is the
@@ -41,9 +41,9 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robot_sim.control.batch import BatchSimulation, batched_controller
+from robot_sim.sim.batch import BatchSimulation, batched_controller
 from robot_sim.control.controllers import JOINT_MODES, Gains, control_gains
-from robot_sim.control.simulation import DEFAULT_DT, INTEGRATORS
+from robot_sim.sim.simulation import DEFAULT_DT, INTEGRATORS
 from robot_sim.io.files import write_atomic
 from robot_sim.model.inertials import LinkInertials, _combine
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams

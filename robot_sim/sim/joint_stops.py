@@ -28,7 +28,7 @@ x_A)``, so held joints get exactly zero rate, not round-off.
 
 Arrays in, arrays out, one configuration: (n,) vectors, (n, n) M [kg·m², kg]; rates in
 rad/s (m/s), accelerations in rad/s² (m/s²), torques in N·m (N), impulses in N·m·s (N·s).
-No state and no robot: :class:`~robot_sim.control.simulation.Simulation` calls these with
+No state and no robot: :class:`~robot_sim.sim.simulation.Simulation` calls these with
 the mass matrix and bias torque of ``dynamics``; a batched simulation calls them for the
 configurations that touch a stop.
 """

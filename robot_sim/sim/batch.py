@@ -4,7 +4,7 @@ Each step does for every running environment what ``Simulation.step`` does for o
 in the same order and with the same floating-point operations on arrays of shape
 (n_envs, n): the controller's effort (batched: PD, PD + gravity and computed torque take
 (N, n) arrays), saturation at the drives' effort limits, one integration step of all arms
-by a ``dynamics.Stepper`` (one compiled call), velocity limits, joint limits as hard
+by a ``Stepper`` (one compiled call), velocity limits, joint limits as hard
 stops, divergence.  So environment i of a batch ends bit for bit where a ``Simulation``
 with the same robot, gains, reference and initial state ends after the same steps.
 
@@ -36,11 +36,12 @@ from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, Controller, Gains
 from robot_sim.control.factory import make_controller
 from robot_sim.control.reference import is_task, task_from_joints
-from robot_sim.control.simulation import (
-    DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, runge_kutta, stop_message,
-)
 from robot_sim.control.task_space import TASK_MODES
 from robot_sim.model.params import RobotParams
+from robot_sim.sim import stepper as stepping
+from robot_sim.sim.simulation import DEFAULT_DT, drive_limits, stop_message
+from robot_sim.sim.stepper import INTEGRATORS, StepDiverged, StepResult, Stepper, runge_kutta, step_one_arm
+from robot_sim.sim.stops import LimitEvent, StepPhysics, StopResolver
 
 FloatArray = NDArray[np.float64]
 #: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s];
@@ -125,7 +126,7 @@ class BatchSimulation:
         self._limit_velocity = bool(np.isfinite(self.velocity_limit).any())
         self._limit_position = bool(np.isfinite(robot.q_min).any() or np.isfinite(robot.q_max).any())
         self._model_known = getattr(self.controller, "robot", None) is robot
-        self._stepper = dynamics.Stepper(robot, self.n_envs, self.dt, integrator)
+        self._stepper = Stepper(robot, self.n_envs, self.dt, integrator)
         #: Simulated time [s] and steps taken, per environment (a stopped one stays put).
         self.time = np.zeros(self.n_envs)
         self.steps = np.zeros(self.n_envs, dtype=np.int64)
@@ -141,7 +142,8 @@ class BatchSimulation:
         #: Reaction torque of the stops holding joints at the start of the last step.
         self.limit_torque = np.zeros(shape)
         self._on_stop = np.zeros(self.n_envs, dtype=bool)
-        self._scratch: Simulation | None = None  # resolves the steps that touch a stop
+        self._stops = StopResolver(robot)  # resolves the steps that touch a stop, as Simulation's does
+        self._one_arm: Stepper | None = None  # the stop resolver's steps of one arm
         self.effort = np.zeros(shape)
         self.effort_command = np.zeros(shape)
         self.qdd = np.zeros(shape)
@@ -264,8 +266,8 @@ class BatchSimulation:
         result = self._stepper.step(q, qd, tau, qdd_start, known, stepped, stops=self._limit_position)
         if continuous and (active & ~self._on_stop).any():
             self._continuous_step(active & ~self._on_stop, q, qd, tau, qdd_start, known, desired_at, t, result)
-        for status, why in ((dynamics.STEP_BAD_STATE, "the joint state became non-finite"),
-                            (dynamics.STEP_BAD_ACCEL, "the joint acceleration became non-finite")):
+        for status, why in ((stepping.STEP_BAD_STATE, "the joint state became non-finite"),
+                            (stepping.STEP_BAD_ACCEL, "the joint acceleration became non-finite")):
             failed = active & (result.status == status)
             self._stop(np.flatnonzero(failed), lambda i, why=why: why)
             active &= ~failed
@@ -292,7 +294,7 @@ class BatchSimulation:
 
     def _continuous_step(
         self, free: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, qdd_start: FloatArray | None,
-        known: NDArray[np.bool_] | None, desired_at: Callable[[float], tuple], t: float, result: dynamics.StepResult,
+        known: NDArray[np.bool_] | None, desired_at: Callable[[float], tuple], t: float, result: StepResult,
     ) -> None:
         """The step of the ``free`` environments under a continuous-time controller, as
         ``Simulation`` takes it stage by stage: the law at every stage on the desired
@@ -306,7 +308,7 @@ class BatchSimulation:
 
         def accel(offset: float, Qs: FloatArray, QDs: FloatArray) -> FloatArray:
             ok = _row_finite(Qs) & _row_finite(QDs)
-            bad[free & ~ok & (bad == 0)] = dynamics.STEP_BAD_STATE
+            bad[free & ~ok & (bad == 0)] = stepping.STEP_BAD_STATE
             use = rows & ok[:, None]
             Qs, QDs = np.where(use, Qs, q), np.where(use, QDs, qd)  # rows not stepped: finite stand-ins
             desired = desired_at(t + offset)
@@ -323,7 +325,7 @@ class BatchSimulation:
                     a = np.array(own, dtype=float)
                     if clipped.any():
                         a[clipped] = dynamics.forward_dynamics(robot, Qs[clipped], QDs[clipped], effort[clipped])
-            bad[free & ~_row_finite(a) & (bad == 0)] = dynamics.STEP_BAD_ACCEL
+            bad[free & ~_row_finite(a) & (bad == 0)] = stepping.STEP_BAD_ACCEL
             return a
 
         a1 = qdd_start
@@ -334,44 +336,58 @@ class BatchSimulation:
         result.q[free], result.qd[free], result.qdd[free] = q1[free], qd1[free], qdd1[free]
         lo, hi = robot.q_min, robot.q_max
         crossed = ((q1 < lo) | (q1 > hi)).any(axis=1) if self._limit_position else np.zeros(self.n_envs, bool)
-        result.status[free] = np.where(bad[free] != 0, bad[free], np.where(crossed[free], dynamics.STEP_CROSSED,
-                                                                             dynamics.STEP_OK))
+        result.status[free] = np.where(bad[free] != 0, bad[free], np.where(crossed[free], stepping.STEP_CROSSED,
+                                                                             stepping.STEP_OK))
         if self._limit_position:
             result.at_limit[free] = (q1[free] == lo) | (q1[free] == hi)
 
+    def _stop_physics(self) -> StepPhysics:
+        """The physics of one arm's step for the stop resolver: the one-arm compiled step
+        (as ``Simulation`` takes it without contact or a tool wrench) and M q̈'s right-hand
+        side τ − C q̇ − g."""
+        if self._one_arm is None:
+            self._one_arm = Stepper(self.robot, 1, self.dt, self.integrator)
+        one = self._one_arm
+
+        def stepped(q, qd, tau, a1, h, locked):
+            return step_one_arm(one, q, qd, tau, a1, h, locked)
+
+        return StepPhysics(stepped, lambda q, qd, tau: tau - dynamics.bias_torque(self.robot, q, qd))
+
     def _through_stops(
-        self, active: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, result: dynamics.StepResult
+        self, active: NDArray[np.bool_], q: FloatArray, qd: FloatArray, tau: FloatArray, result: StepResult
     ) -> NDArray[np.bool_]:
         """The stops' part of the step, as in ``Simulation``: the stepper held the joints
         resting on their stops; the environments it left to the caller (a start on a stop
         it does not resolve, or a step that crossed a limit) are redone, in place in
-        ``result``, by ``Simulation.step_through_stops`` (the same code, so bit for bit a
-        Simulation); arrivals, reactions and at-limit flags recorded; the environments
+        ``result``, by the stop resolver Simulation uses (the same code and one-arm steps,
+        so bit for bit a Simulation); arrivals, reactions and at-limit flags recorded; the environments
         still running returned (one the stops cannot resolve stops alone)."""
         status = result.status
-        on_limit = status == dynamics.STEP_ON_LIMIT
-        stepped = active & ((status == dynamics.STEP_OK) | on_limit)
+        on_limit = status == stepping.STEP_ON_LIMIT
+        stepped = active & ((status == stepping.STEP_OK) | on_limit)
         touched = stepped & (self._on_stop | on_limit)
         self.limit_torque[touched] = np.where(self._on_stop[touched, None], result.reaction[touched], 0.0)
         self.at_limit[touched] = result.at_limit[touched]
-        redo = active & ((status == dynamics.STEP_AT_STOP) | (status == dynamics.STEP_CROSSED))
+        redo = active & ((status == stepping.STEP_AT_STOP) | (status == stepping.STEP_CROSSED))
         if redo.any():
-            if self._scratch is None:
-                self._scratch = Simulation(self.robot, dt=self.dt, integrator=self.integrator)
+            physics = self._stop_physics()
             active = active.copy()
             lo, hi = self.robot.q_min, self.robot.q_max
             q1, qd1, qdd1 = result.q, result.qd, result.qdd
             for i in np.flatnonzero(redo):
-                trial = (q1[i].copy(), qd1[i].copy(), qdd1[i].copy()) if status[i] == dynamics.STEP_CROSSED else None
-                out = self._scratch.step_through_stops(float(self.time[i]), q[i], qd[i], tau[i], trial)
-                if isinstance(out, str):
-                    self._stop([i], lambda _, why=out: why)
+                trial = (q1[i].copy(), qd1[i].copy(), qdd1[i].copy()) if status[i] == stepping.STEP_CROSSED else None
+                try:
+                    resolved = self._stops.resolve(float(self.time[i]), self.dt, q[i], qd[i], tau[i], physics, trial)
+                except (StepDiverged, np.linalg.LinAlgError) as exc:
+                    self._stop([i], lambda _, why=str(exc): why)
                     active[i] = False
                     continue
-                q1[i], qd1[i], start_qdd, self.limit_torque[i], events = out
-                if start_qdd is not None:
-                    qdd1[i] = start_qdd
-                self.events.extend((int(i), event) for event in events)
+                q1[i], qd1[i] = resolved.q, resolved.qd
+                if trial is None:
+                    qdd1[i] = resolved.qdd
+                self.limit_torque[i] = resolved.outcome.reaction
+                self.events.extend((int(i), event) for event in resolved.outcome.events)
                 self.at_limit[i] = (q1[i] == lo) | (q1[i] == hi)
         self._on_stop = self.at_limit.any(axis=1)
         return active

@@ -15,7 +15,7 @@ from robot_sim.control.factory import make_controller
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.planning.pick_task import TaskPlan
 from robot_sim.model.state import RobotState
-from robot_sim.control.simulation import DEFAULT_DT, Simulation
+from robot_sim.sim.simulation import DEFAULT_DT, Simulation
 from robot_sim.planning.scaling import Trajectory
 
 FloatArray = NDArray[np.float64]
