@@ -82,7 +82,7 @@ _EXPORTS = {
     "Sphere": "robot_sim.model.shapes",
     "Cylinder": "robot_sim.model.shapes",
     "Capsule": "robot_sim.model.shapes",
-    "Mesh": "robot_sim.model.shapes",
+    "Mesh": "robot_sim.io.meshes",  # importing it installs the one mesh-file reader
     "HalfSpace": "robot_sim.model.shapes",
     "World": "robot_sim.model.world",
     "load_world": "robot_sim.io.world_file",
