@@ -22,6 +22,7 @@ from robot_sim.io.files import FileReadError, read_regular_file
 from robot_sim.io.inertial_tables import parse_joint_tables
 from robot_sim.io.meshes import MeshReader
 from robot_sim.io.shape_tables import GEOMETRY_KEYS, ShapeTables
+from robot_sim.io.toml_depth import MAX_TOML_DEPTH, nesting_too_deep
 from robot_sim.model.messages import clip, clip_repr
 from robot_sim.model.params import (
     CONVENTION_STANDARD,
@@ -177,8 +178,12 @@ def check_bounds(robot: RobotParams, path: Path | str) -> None:
 def read_toml(path: Path, what: str = "robot file", error: type[ValueError] = RobotDefinitionError) -> dict[str, Any]:
     """The parsed TOML of ``what`` at ``path`` (robot and task files): read as by
     :func:`_read_text`; ``error`` starting with the path for any unreadable or invalid
-    file (nesting too deep, an integer of more than 4300 digits included)."""
+    file (keys nested more than MAX_TOML_DEPTH levels, found by a pre-scan before
+    parsing; an integer of more than 4300 digits included)."""
     text = _read_text(path, what, error)
+    deep = nesting_too_deep(text)
+    if deep is not None:
+        raise error(f"{path}: line {deep}: keys, tables or arrays nested more than {MAX_TOML_DEPTH} levels deep")
     try:
         return tomllib.loads(text)
     except RecursionError:
