@@ -284,7 +284,7 @@ def test_unknown_robot_name_lists_available_robots():
     with pytest.raises(RobotDefinitionError) as info:
         load_robot("pumma560")
     message = str(info.value)
-    assert message.startswith("unknown robot 'pumma560'; available robots: ")
+    assert message.startswith("unknown robot 'pumma560': no such file and no shipped robot of that name; accepted: ")
     assert message.endswith(", ".join(available_robots()))
 
 

@@ -28,6 +28,8 @@ from robot_sim.model.messages import clip
 from robot_sim.model.params import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
 from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
+from robot_sim.io.robot_kind import robot_kind
+from robot_sim.io.xacro_file import parse_xacro_args
 from robot_sim.io.world_file import WorldDefinitionError, load_world
 from robot_sim.model.world import World
 from robot_sim.viewer import recording
@@ -102,8 +104,11 @@ def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``robot-sim`` (errors raise CliError instead of exiting)."""
     w, h = vs.WINDOW_DEFAULT_SIZE
     parser = _Parser(prog=PROG, description="DH robot manipulator simulator with an OpenGL viewer.")
-    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf",
-                        help=f"shipped robot name, robot file or URDF file (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf|FILE.urdf.xacro",
+                        help=f"shipped robot name, robot file, URDF file (any XML with a <robot> root) or "
+                             f"xacro file (needs pip install xacro) (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                        help="xacro robots only: an argument of the xacro file (repeatable)")
     parser.add_argument("--tip", metavar="LINK", help="URDF only: the link that ends the chain (when the tree branches)")
     parser.add_argument("--skip-missing-meshes", action="store_true",
                         help="load the robot without the mesh files that cannot be found or read "
@@ -325,16 +330,19 @@ def parse_joint_number(option: str, text: str, n_dofs: int) -> int:
 
 def config_from_args(args: argparse.Namespace) -> Config:
     """Validate parsed arguments: load the robot, parse q, size, frames and the screenshot path."""
-    if args.tip is not None and not args.robot.lower().endswith(".urdf"):
-        raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{args.robot}'")
+    if args.tip is not None and robot_kind(Path(args.robot)) == "toml":
+        raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{clip(args.robot)}'")
     theme = parse_theme(args.theme)
     try:
+        xacro_args = parse_xacro_args(args.xacro_arg)
         with warnings.catch_warnings(record=True) as skipped:
             warnings.simplefilter("always", MeshSkippedWarning)
             robot = load_robot(args.robot, tip=args.tip, convention=args.convention,
-                               skip_missing_meshes=args.skip_missing_meshes)
+                               skip_missing_meshes=args.skip_missing_meshes, xacro_args=xacro_args or None)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
+    except ValueError as exc:  # xacro arguments, or given for a robot that is not a xacro file
+        raise CliError(f"--xacro-arg: {exc}") from None
     for warning in skipped:
         if issubclass(warning.category, MeshSkippedWarning):
             print(f"{PROG}: warning: {' '.join(str(warning.message).split())}", file=sys.stderr)

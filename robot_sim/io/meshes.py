@@ -71,6 +71,12 @@ def _package_dirs(package: str, urdf_dir: Path, package_path: str | None) -> lis
     return candidates
 
 
+def package_folder(package: str, urdf_dir: Path, package_path: str | None) -> Path | None:
+    """The first existing folder of ROS package ``package`` for a description in folder
+    ``urdf_dir`` (searched as :func:`resolve_mesh_uri` does), or None."""
+    return next((d for d in _package_dirs(package, Path(os.path.abspath(urdf_dir)), package_path) if d.is_dir()), None)
+
+
 def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) -> Path:
     """The file a URDF mesh ``uri`` names, for a URDF in folder ``urdf_dir``.
 
@@ -80,6 +86,7 @@ def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) 
     """
     if not uri.strip():
         raise MeshError("empty mesh filename")
+    urdf_dir = Path(os.path.abspath(urdf_dir))  # a URDF named "arm.urdf" still has parent folders
     parts = urlsplit(uri)
     scheme = parts.scheme.lower()
     if scheme == "package":
@@ -95,7 +102,7 @@ def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) 
             if (parent / rest).is_file():
                 return parent / rest
         where = f"{PACKAGE_PATH_VARIABLE} ({clip(package_path) or 'unset'})"
-        raise MeshError(f"package '{package}' with {rest} not found in {where} or the URDF's parent folders")
+        raise MeshError(f"package '{clip(package)}' with {clip_middle(rest)} not found in {where} or the URDF's parent folders")
     if scheme == "file":
         path = Path(unquote(parts.path))
     elif scheme and len(scheme) > 1:  # "c:" is a drive, not a scheme
