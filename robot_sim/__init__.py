@@ -48,6 +48,8 @@ _EXPORTS = {
     "Simulation": "robot_sim.control.simulation",
     "LimitEvent": "robot_sim.control.simulation",
     "make_controller": "robot_sim.control.factory",
+    "control_gains": "robot_sim.control.controllers",
+    "Gains": "robot_sim.control.controllers",
     "BatchSimulation": "robot_sim.control.batch",
     "sweep": "robot_sim.control.sweep",
     # conversion and files

@@ -20,11 +20,12 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from robot_sim.io import files as fileio
+from robot_sim.io.staged_folder import check_output_folder
 from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 from robot_sim.app.robot_cmds import dh_table_text, export
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
-from robot_sim.model.messages import clip
+from robot_sim.model.messages import clip, clip_middle
 from robot_sim.model.params import CONVENTIONS, JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
 from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
@@ -350,19 +351,20 @@ def config_from_args(args: argparse.Namespace) -> Config:
             warnings.warn_explicit(warning.message, warning.category, warning.filename, warning.lineno)
     if args.workspace:
         check_workspace(args.workspace, robot)
-    pick_plan, time, pick_effort, pick_report = pick_arguments(args, robot)
-    record, duration, fps = record_arguments(args, pick_plan, time)
-    gains = gain_arguments(args, robot)
-    simulate = duration if args.motion is not None and record is None and args.duration is not None else 0.0
     try:
         world = None if args.world is None else load_world(args.world)
     except WorldDefinitionError as exc:
         raise CliError(f"--world: {exc}") from None
+    size = parse_size(args.size)  # before --record's folder is checked or anything planned
+    pick_plan, time, pick_effort, pick_report = pick_arguments(args, robot, world)
+    record, duration, fps = record_arguments(args, pick_plan, time)
+    gains = gain_arguments(args, robot)
+    simulate = duration if args.motion is not None and record is None and args.duration is not None else 0.0
     return Config(
         robot_arg=args.robot,
         robot=robot,
         q=None if args.q is None else parse_q(args.q, robot),
-        size=parse_size(args.size),
+        size=size,
         screenshot=None if args.screenshot is None else check_writable(Path(args.screenshot)),
         frames=parse_frames(args.frames, robot.n_dofs + 1),
         wireframe=args.wireframe,
@@ -397,7 +399,7 @@ def _number(option: str, text: str, what: str, positive: bool) -> float:
 
 
 def pick_arguments(
-    args: argparse.Namespace, robot: RobotParams
+    args: argparse.Namespace, robot: RobotParams, world: World | None = None
 ) -> tuple[TaskPlan | None, float, np.ndarray | None, str | None]:
     """--task, --time and --motion of the pick demo: the plan (made here, so an impossible
     task is one line before anything opens or moves), the start time [s] and, with
@@ -410,7 +412,7 @@ def pick_arguments(
         return None, 0.0, None, None
     time = 0.0 if args.time is None else _number("--time", args.time, "a finite time in seconds >= 0", False)
     try:
-        plan = plan_for(robot, args.task)
+        plan = plan_for(robot, args.task, world)  # among the --world obstacles too
     except ValueError as exc:  # TaskDefinitionError, TaskError
         raise CliError(str(exc)) from None
     if args.motion is None:
@@ -424,7 +426,8 @@ def pick_arguments(
 
 
 def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: float) -> tuple[Path | None, float, float]:
-    """--record DIR (created if missing; its parent must exist), --duration and --fps."""
+    """--record DIR (its parent must exist; created when the recording is complete), --duration
+    and --fps (at most RECORD_MAX_FRAMES frames)."""
     fps = RECORD_DEFAULT_FPS
     if args.fps is not None:
         fps = _number("--fps", args.fps, f"a positive number of frames per second up to {RECORD_MAX_FPS:g}", True)
@@ -439,13 +442,13 @@ def record_arguments(args: argparse.Namespace, plan: TaskPlan | None, time: floa
         if args.duration is not None and args.motion is None:
             raise CliError(f"--duration: needs --record DIR, or --motion {'|'.join(MOTIONS)} to simulate first")
         return None, duration, fps
+    if not duration * fps < vs.RECORD_MAX_FRAMES:
+        raise CliError(f"--duration × --fps: {duration:g} s at {fps:g} frames per second is {duration * fps:.3g} "
+                       f"frames; at most {vs.RECORD_MAX_FRAMES} are accepted")
     out = Path(args.record).expanduser().absolute()
-    try:
-        out.mkdir(exist_ok=True)
-    except OSError as exc:
-        raise CliError(f"--record: cannot write frames to '{out}': {exc.strerror}") from None
-    if not out.is_dir() or not os.access(out, os.W_OK):
-        raise CliError(f"--record: cannot write frames to '{out}': not a writable directory")
+    reason = check_output_folder(out)  # created only when the recording is complete
+    if reason is not None:
+        raise CliError(f"--record: cannot write frames to '{clip_middle(str(out))}': {reason}")
     return out, duration, fps
 
 

@@ -40,9 +40,13 @@ from robot_sim.control.simulation import (
     DEFAULT_DT, INTEGRATORS, LimitEvent, Simulation, drive_limits, runge_kutta, stop_message,
 )
 from robot_sim.control.task_space import TASK_MODES
+from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
+#: Most environments of one BatchSimulation (its state, scratch and records grow with it;
+#: sweeps run larger grids in chunks).
+MAX_ENVS = 100_000
 #: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s];
 #: for a task-space controller also (pose_d, twist_d, accel_d): (4, 4) or (n_envs, 4, 4)
 #: [m], (6,) or (n_envs, 6) [m/s; rad/s] and [m/s²; rad/s²], world frame.
@@ -105,8 +109,8 @@ class BatchSimulation:
         gains: Gains | Sequence[Gains] | None = None,
         reference: BatchReference | None = None,
     ) -> None:
-        if isinstance(n_envs, bool) or not isinstance(n_envs, (int, np.integer)) or n_envs < 1:
-            raise ValueError(f"n_envs must be a positive integer, got {n_envs!r}")
+        if isinstance(n_envs, bool) or not isinstance(n_envs, (int, np.integer)) or not 1 <= n_envs <= MAX_ENVS:
+            raise ValueError(f"n_envs must be an integer 1..{MAX_ENVS}, got {clip_repr(n_envs)}")
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
         if integrator not in INTEGRATORS:

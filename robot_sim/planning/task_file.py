@@ -37,6 +37,7 @@ SI units inside; no Qt, no OpenGL.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass, field
@@ -52,8 +53,8 @@ from robot_sim.io.checker import LENGTH_BOUND, Bound, FieldChecker
 from robot_sim.model.messages import clip_repr
 from robot_sim.io.robot_file import UNITS
 from robot_sim.io.world_file import WorldDefinitionError, parse_world
-from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Shape, Sphere
-from robot_sim.model.world import World
+from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Shape, Sphere
+from robot_sim.model.world import FLOOR_NAME, World
 from robot_sim.transforms import HomogeneousTransform, rot_x
 
 FloatArray = NDArray[np.float64]
@@ -262,6 +263,19 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
         name=name, table_top=top, table_size=table_size, object_shape=shape, object_size=size,
         object_pose=object_pose, grasp=grasp, place=place, source=str(path), obstacles=obstacles, **motion,
     )
+
+
+def with_world_obstacles(spec: TaskSpec, world: World) -> TaskSpec:
+    """``spec`` with the obstacles of ``world`` (besides its floor, which every task has)
+    added after its own; TaskDefinitionError for a name the task already uses."""
+    taken = {TABLE_NAME, *(name for name, _ in spec.obstacles)}
+    added = tuple((name, shape) for name, shape in world.obstacles if not isinstance(shape, HalfSpace)
+                  or name != FLOOR_NAME)
+    for name, _ in added:
+        if name in taken:
+            raise TaskDefinitionError(f"{spec.source}: the world's obstacle {clip_repr(name)} has the name of "
+                                      "the task's table or one of its obstacles; name it otherwise")
+    return dataclasses.replace(spec, obstacles=spec.obstacles + added) if added else spec
 
 
 def task_toml(spec: TaskSpec) -> str:
