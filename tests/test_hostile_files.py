@@ -93,3 +93,58 @@ def test_retime_sample_count_is_bounded_before_allocation():
     assert str(info.value) == "dt must be a number of seconds >= 1e-06, got 1e-09"
     with pytest.raises(ValueError, match=r"sampled every 1e-06 s needs .* samples; at most 1000000 are accepted"):
         retime(arm, path, dt=1e-6)
+
+
+# ------------------------------------------------------------------ published inertia tables
+PUMA_LINK1 = np.diag([0.0, 0.35, 0.0])  # the Robotics Toolbox's PUMA 560 link 1 (Armstrong et al. 1986)
+
+
+def _inertials(inertia, **options):
+    from robot_sim.model.inertials import LinkInertials
+
+    return LinkInertials.from_arrays([0.0, 17.4], np.zeros((2, 3)), [inertia, np.diag([0.13, 0.524, 0.539])], **options)
+
+
+def test_a_triangle_violation_is_refused_by_default_naming_the_link():
+    with pytest.raises(ValueError) as info:
+        _inertials(PUMA_LINK1)
+    assert str(info.value) == (
+        "inertia of link 1 principal moments [0, 0, 0.35] violate the triangle inequality (0.35 > 0 + 0); "
+        "balance_inertia raises the smallest moment just enough (a keyword, or balance_inertia = true in a robot file)")
+
+
+def test_balance_inertia_raises_the_smallest_moment_just_enough_and_says_so():
+    from robot_sim.model.inertials import InertiaBalancedWarning, inertia_problem
+
+    with pytest.warns(InertiaBalancedWarning) as caught:
+        inertials = _inertials(PUMA_LINK1, balance_inertia=True)
+    assert len(caught) == 1 and str(caught[0].message) == (
+        "inertia of link 1: principal moments [0, 0, 0.35] raised to [0, 0.35, 0.35] kg m^2 (balance_inertia: "
+        "the smallest moment raised just enough for the triangle inequality)")
+    fixed = inertials.inertia[0]
+    moments = np.linalg.eigvalsh(fixed)
+    np.testing.assert_allclose(moments, [0.0, 0.35, 0.35], atol=1e-15)
+    assert moments[2] == pytest.approx(moments[0] + moments[1], abs=1e-15) and inertia_problem(fixed) is None
+    assert fixed[1, 1] == 0.35 and np.trace(fixed) == pytest.approx(0.70)  # Iyy kept, one zero moment raised to 0.35
+    np.testing.assert_array_equal(inertials.inertia[1], np.diag([0.13, 0.524, 0.539]))  # valid ones untouched
+    rot = np.array([[0.0, -0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, 0.6]])  # same result in any axes
+    with pytest.warns(InertiaBalancedWarning):
+        turned = _inertials(rot @ np.diag([0.1, 0.2, 0.5]) @ rot.T, balance_inertia=True)
+    np.testing.assert_allclose(np.linalg.eigvalsh(turned.inertia[0]), [0.2, 0.3, 0.5], atol=1e-12)
+    with pytest.raises(ValueError, match="negative principal moment"):  # balancing makes nothing else physical
+        _inertials(np.diag([-0.1, 0.2, 0.2]), balance_inertia=True)
+
+
+def test_balance_inertia_switch_in_a_robot_file(tmp_path):
+    from robot_sim.model.inertials import InertiaBalancedWarning
+
+    table = "[joints.inertial]\nmass = 1.0\ncom = [0.0, 0.0, 0.0]\ninertia = [0.0, 0.35, 0.0, 0.0, 0.0, 0.0]\n"
+    path = tmp_path / "puma1.toml"
+    path.write_text(ROBOT + table)
+    with pytest.raises(RobotDefinitionError, match=r"joints\[0\].inertial.inertia: .* violate the triangle inequality"
+                                                   r" .*; or set balance_inertia = true$"):
+        load_robot(path)
+    path.write_text("balance_inertia = true\n" + ROBOT + table)
+    with pytest.warns(InertiaBalancedWarning, match=f"^inertia of {path}: joints\\[0\\].inertial.inertia: "):
+        robot = load_robot(path)
+    np.testing.assert_allclose(np.linalg.eigvalsh(robot.inertials.inertia[0]), [0.0, 0.35, 0.35], atol=1e-15)

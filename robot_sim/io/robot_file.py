@@ -49,7 +49,8 @@ def _robots_dir() -> Path:
 ROBOTS_DIR = _robots_dir()
 
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
-TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control", "collision"}
+TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control", "collision",
+            "balance_inertia"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive", *GEOMETRY_KEYS}
 DH_KEYS = ("a", "alpha", "d", "theta")
@@ -287,7 +288,10 @@ def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = F
         for key, value in zip(columns, (a, alpha, d, theta, home, lo, hi, com)):
             columns[key].append(value)
 
-    inertials, drives = parse_joint_tables(check, joints)
+    balance = data.get("balance_inertia", False)
+    if not isinstance(balance, bool):
+        raise check.fail("balance_inertia", f"expected true or false, got {clip_repr(balance)}")
+    inertials, drives = parse_joint_tables(check, joints, balance)
     base, base_tables = data.get("base", {}), {}
     if isinstance(base, dict):  # [base] holds frame 0's pose and the base's geometry
         check.keys(base, {"xyz", "rpy", *GEOMETRY_KEYS}, "base")
