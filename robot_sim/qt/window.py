@@ -47,6 +47,7 @@ from robot_sim.model.world import World
 from robot_sim.io.robot_file import available_robots, resolve_robot_path
 from robot_sim.viewer.trail import Trail
 from robot_sim.qt.elided_label import ElidedLabel
+from robot_sim.qt.robot_chooser import RobotChooser
 from robot_sim.qt.shortcuts import ShortcutFilter
 from robot_sim.viewer.session import ViewerSession, compute_workspace
 from robot_sim.viewer.workspace_job import COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
@@ -315,14 +316,9 @@ class MainWindow(QtWidgets.QMainWindow):
         dock.setFeatures(QtWidgets.QDockWidget.NoDockWidgetFeatures)
         panel = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(panel)
-        self.robot_combo = QtWidgets.QComboBox()
-        names = available_robots()
-        self.robot_combo.addItems(names)
-        if self.options.robot_arg not in names:
-            self.robot_combo.insertItem(0, self.options.robot_arg)
         self.robot_choice = self.options.robot_arg  # what the chooser shows, kept on Cancel
-        self.robot_combo.setCurrentText(self.robot_choice)
-        self.robot_combo.currentTextChanged.connect(self.choose_robot)
+        self.robot_combo = RobotChooser(available_robots(), self.robot_choice)  # long paths elided in the middle
+        self.robot_combo.chosen.connect(self.choose_robot)
         layout.addWidget(self.robot_combo)
         self.motion_panel = MotionPanel()
         self.motion_panel.mode_chosen.connect(self.choose_motion)
@@ -494,9 +490,7 @@ class MainWindow(QtWidgets.QMainWindow):
 
     def show_robot_choice(self) -> None:
         """The chooser names the robot shown (without switching)."""
-        self.robot_combo.blockSignals(True)
-        self.robot_combo.setCurrentText(self.robot_choice)
-        self.robot_combo.blockSignals(False)
+        self.robot_combo.show_choice(self.robot_choice)
 
     def confirm_unsaved(self, doing: str) -> bool:
         """True if the shown robot may be dropped for ``doing`` (e.g. "closing"): it has
