@@ -148,3 +148,19 @@ def test_balance_inertia_switch_in_a_robot_file(tmp_path):
     with pytest.warns(InertiaBalancedWarning, match=f"^inertia of {path}: joints\\[0\\].inertial.inertia: "):
         robot = load_robot(path)
     np.testing.assert_allclose(np.linalg.eigvalsh(robot.inertials.inertia[0]), [0.0, 0.35, 0.35], atol=1e-15)
+
+
+def test_the_pick_tracking_figures_name_the_script_that_measures_them():
+    """docs/trajectories.md's computed-torque figures were stale; they now come from a
+    script the page names, whose table header the page holds as printed."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    page = (root / "docs" / "trajectories.md").read_text(encoding="utf-8")
+    (script,) = re.findall(r"Measured with `([^`]+)`", page)
+    source = (root / script).read_text(encoding="utf-8")
+    header = "| robot | tool error [mm] | placed from target [mm] | task [s] | run [s] (median"
+    assert header in page and header in source
+    for robot in ("UR5", "Humanoid arm (7-DOF)", "Franka Emika Panda", "PUMA 560"):
+        assert f"\n| {robot} | " in page
