@@ -5,7 +5,7 @@
 
     import robot_sim as rs
     robot = rs.load_robot("puma560")
-    T = rs.forward_kinematics(robot, robot.q_home)[-1]
+    T = rs.forward_kinematics(robot, robot.q_home)  # the tool's pose in the world, (4, 4)
 
 The subpackages are the architecture (see docs/layout.md): ``model``, ``io``,
 ``kinematics``, ``dynamics``, ``control``, ``planning``, ``graphics``, ``viewer``, ``qt``, ``app``.
@@ -94,6 +94,9 @@ _EXPORTS = {
     "shape_distance": "robot_sim.collision.distance",
     "ContactModel": "robot_sim.collision.contact",
     "ContactForce": "robot_sim.collision.contact",
+    # viewing
+    "Visualizer": "robot_sim.viewer.visualizer",
+    "show": "robot_sim.viewer.visualizer",
 }
 
 __all__ = sorted(_EXPORTS)
