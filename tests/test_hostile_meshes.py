@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 import robot_sim.io.meshes as meshes
+from robot_sim.model.shapes import Mesh
+from robot_sim.model.world import World
 from robot_sim.io.robot_file import load_robot
 from robot_sim.io.world_file import WorldDefinitionError, load_world
 from robot_sim.model.params import RobotDefinitionError
@@ -121,7 +123,17 @@ def test_thousand_obstacles_of_one_mesh_parse_it_once_and_share_it(tmp_path, mon
     world = load_world(_world(tmp_path, stl, count=1000))
     shapes = [world[f"m{k}"] for k in range(1000)]
     assert len(shapes) == 1000 and calls == [".stl"]
-    assert all(np.shares_memory(s._arrays()[0], shapes[0]._arrays()[0]) for s in shapes)
+    assert all(np.shares_memory(s.data[0], shapes[0].data[0]) for s in shapes)
+    from robot_sim.collision.checker import CollisionChecker
+
+    robot = load_robot("planar3")
+    checker = CollisionChecker(robot, world)  # the collision scene packs them once too
+    assert checker.scene.verts.shape == (4, 3)
+    v, f = shapes[0].data  # the oracle: a world of the same obstacles, each with its own copy
+    copies = World([(f"m{k}", Mesh((v.copy(), f.copy()), pose=s.pose)) for k, s in enumerate(shapes)])
+    oracle = CollisionChecker(robot, copies)
+    for q in (np.zeros(3), np.array([0.4, -0.3, 0.2]), np.array([2.0, 1.0, -1.0])):
+        assert checker.distance(q).distance == pytest.approx(oracle.distance(q).distance, abs=1e-12)
 
 
 def test_an_unreadable_mesh_named_by_many_visuals_is_read_once(tmp_path, monkeypatch):

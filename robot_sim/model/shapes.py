@@ -256,6 +256,12 @@ class Mesh(_ShapeBase):
         """The mesh file's path, or None for a mesh given as arrays."""
         return self.source if isinstance(self.source, str) else None
 
+    @property
+    def data(self) -> tuple[FloatArray, NDArray[np.int64]]:
+        """The unscaled vertices (V, 3) [m] and faces (F, 3), read-only: the same arrays
+        for every shape made from one read of a file (so users may share work on them)."""
+        return self._arrays()
+
     def _arrays(self) -> tuple[FloatArray, NDArray[np.int64]]:
         if isinstance(self.source, tuple):
             return self.source
