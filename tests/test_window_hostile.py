@@ -1,6 +1,7 @@
 """Issue 31 (xvfb): a robot named by a long path keeps the Robot dock inside a 1280 px
 window: the chooser elides the name in the middle, and the joint boxes, the upper limits,
-the Zero button and the status bar stay visible."""
+the Zero button and the status bar stay visible.  The window's pick demo (Space) plans
+among the --world obstacles."""
 from __future__ import annotations
 
 import shutil
@@ -42,3 +43,17 @@ def test_a_long_robot_path_keeps_the_robot_dock_inside_the_window(opened, tmp_pa
     win.dock_scroll.ensureWidgetVisible(win.joints.zero_button)
     assert _visible_in(win.joints.zero_button, win)
     assert _visible_in(win.statusBar(), win)
+
+
+def test_the_window_pick_demo_plans_among_the_world_obstacles(opened, tmp_path) -> None:  # noqa: F811
+    from robot_sim.io.robot_file import load_robot
+    from robot_sim.planning.pick_task import default_task
+
+    x, y, _ = default_task(load_robot("ur5")).place[:3, 3]
+    world = tmp_path / "world.toml"
+    world.write_text(f'[[obstacles]]\nname = "post"\nshape = "box"\nsize = [0.1, 0.1, 1.0]\nxyz = [{x}, {y}, 0.0]\n')
+    win = opened("--robot", "ur5", "--world", str(world), size=(1280, 800))
+    win.start_pick()
+    assert win.session.pick is None
+    assert "place: the place pose at" in win.message_label.text()
+    assert "is inside obstacle 'post'" in win.message_label.text()
