@@ -243,7 +243,7 @@ BAD_FILES = {
     ),
     "typo at top level": (
         dict(head=HEAD + 'descripton = "x"\n'),
-        ["descripton: unknown key 'descripton'; accepted keys: base, collision, control, convention, description, joints, name, tool, units"],
+        ["descripton: unknown key 'descripton'; accepted keys: balance_inertia, base, collision, control, convention, description, joints, name, tool, units"],
     ),
     "unknown convention": (
         dict(head=HEAD + 'convention = "craig"\n'),
