@@ -57,6 +57,8 @@ _EXPORTS = {
     "Simulation": "robot_sim.sim.simulation",
     "LimitEvent": "robot_sim.sim.stops",
     "make_controller": "robot_sim.control.factory",
+    "control_gains": "robot_sim.control.controllers",
+    "Gains": "robot_sim.control.controllers",
     "BatchSimulation": "robot_sim.sim.batch",
     "sweep": "robot_sim.sim.sweep",
     # conversion and files
@@ -91,7 +93,7 @@ _EXPORTS = {
     "Sphere": "robot_sim.model.shapes",
     "Cylinder": "robot_sim.model.shapes",
     "Capsule": "robot_sim.model.shapes",
-    "Mesh": "robot_sim.model.shapes",
+    "Mesh": "robot_sim.io.meshes",  # importing it installs the one mesh-file reader
     "HalfSpace": "robot_sim.model.shapes",
     "World": "robot_sim.model.world",
     "load_world": "robot_sim.io.world_file",

@@ -66,3 +66,22 @@ def straight_transport_clearance(plan) -> float:
     wall = dict(plan.spec.obstacles)["wall"]
     return min(shape_distance(plan.spec.object_shape_at(start + f * (end - start)), wall).distance
                for f in np.linspace(0.0, 1.0, 41))
+
+
+# A task file with the object's x as a format field.
+TASK = """\
+name = "block"
+units = "deg"
+[table]
+xyz = [0.4, 0.0, 0.2]
+size = [0.4, 0.6, 0.2]
+[object]
+shape = "cylinder"
+size = [0.05, 0.1]
+xyz = [{x}, -0.2, 0.25]
+[place]
+xyz = [0.4, 0.2, 0.25]
+rpy = [0.0, 0.0, 90.0]
+[motion]
+lift = 0.1
+"""

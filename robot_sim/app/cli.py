@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import re
 from pathlib import Path
 from typing import Sequence
@@ -20,7 +19,9 @@ from robot_sim.control.controllers import PHYSICAL_MODES
 from robot_sim.graphics.looks import LOOKS
 from robot_sim.graphics.themes import DEFAULT_THEME, THEMES
 from robot_sim.io import files as fileio
-from robot_sim.model.messages import clip
+from robot_sim.model.messages import clip, clip_middle
+from robot_sim.io.robot_kind import robot_kind
+from robot_sim.io.staged_folder import check_output_folder
 from robot_sim.model.params import CONVENTIONS
 from robot_sim.viewer import settings as vs
 from robot_sim.viewer.builder import DEMOS
@@ -49,8 +50,11 @@ def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of ``robot-sim`` (errors raise CliError instead of exiting)."""
     w, h = vs.WINDOW_DEFAULT_SIZE
     parser = _Parser(prog=PROG, description="DH robot manipulator simulator with an OpenGL viewer.")
-    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf",
-                        help=f"shipped robot name, robot file or URDF file (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--robot", default=DEFAULT_ROBOT, metavar="NAME|FILE.toml|FILE.urdf|FILE.urdf.xacro",
+                        help=f"shipped robot name, robot file, URDF file (any XML with a <robot> root) or "
+                             f"xacro file (needs pip install xacro) (default: {DEFAULT_ROBOT})")
+    parser.add_argument("--xacro-arg", action="append", default=[], metavar="NAME:=VALUE",
+                        help="xacro robots only: an argument of the xacro file (repeatable)")
     parser.add_argument("--tip", metavar="LINK", help="URDF only: the link that ends the chain (when the tree branches)")
     parser.add_argument("--skip-missing-meshes", action="store_true",
                         help="load the robot without the mesh files that cannot be found or read "
@@ -117,8 +121,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     (width, height) px, ``theme``, ``time`` [s], ``fps``, ``duration`` [s] or None,
     ``screenshot`` and ``record`` as absolute paths or None.  CliError for bad input."""
     args = build_parser().parse_args(attach_negative_values(argv))
-    if args.tip is not None and not args.robot.lower().endswith(".urdf"):
-        raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{args.robot}'")
+    if args.tip is not None and robot_kind(Path(args.robot)) == "toml":
+        raise CliError(f"--tip: applies to a URDF robot (--robot FILE.urdf), not to '{clip(args.robot)}'")
     args.theme = parse_theme(args.theme)
     for option in ("task", "time"):
         if getattr(args, option) is not None and args.demo != "pick":
@@ -133,14 +137,17 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     duration_text = args.duration
     if duration_text is not None:
         args.duration = parse_number("--duration", duration_text, "a finite number of seconds >= 0", False)
+    args.size = parse_size(args.size)  # before --record's folder is checked
     if args.record is None:
         if fps_text is not None:
             raise CliError("--fps: needs --record DIR")
         if duration_text is not None and args.motion is None:
             raise CliError(f"--duration: needs --record DIR, or --motion {'|'.join(MOTIONS)} to simulate first")
     else:
+        if args.duration is not None and not args.duration * args.fps < vs.RECORD_MAX_FRAMES:
+            raise CliError(f"--duration × --fps: {args.duration:g} s at {args.fps:g} frames per second is "
+                           f"{args.duration * args.fps:.3g} frames; at most {vs.RECORD_MAX_FRAMES} are accepted")
         args.record = check_record_dir(Path(args.record))
-    args.size = parse_size(args.size)
     args.screenshot = None if args.screenshot is None else check_writable(Path(args.screenshot))
     return args
 
@@ -195,12 +202,12 @@ def check_writable(path: Path) -> Path:
 
 def check_record_dir(path: Path) -> Path:
     """Absolute ``path`` if frames can be written there: a writable directory, or a new
-    one whose parent is (robot_sim.app.output creates it).  CliError otherwise."""
+    one whose parent is (the recording creates it when complete).  CliError otherwise;
+    nothing is created."""
     out = path.expanduser().absolute()
-    where = out if out.exists() else out.parent
-    if not where.is_dir() or not os.access(where, os.W_OK):
-        reason = "not a writable directory" if out.exists() else "its parent is not a writable directory"
-        raise CliError(f"--record: cannot write frames to '{out}': {reason}")
+    reason = check_output_folder(out)
+    if reason is not None:
+        raise CliError(f"--record: cannot write frames to '{clip_middle(str(out))}': {reason}")
     return out
 
 

@@ -71,15 +71,10 @@ def launch(config: Config) -> int:
 
 def write_recording(config: Config) -> tuple[list[Path], Path | None]:
     """``--record``: the session rendered offscreen to a numbered PNG sequence in the
-    folder (created now, its parent checked by the parse step), and an MP4 when the
-    optional ``video`` extra is installed (no Qt); returns both paths."""
+    folder (written beside it and moved into place when complete, its parent checked by
+    the parse step), and an MP4 when the optional ``video`` extra is installed (no Qt);
+    returns both paths."""
     session = session_from_config(config)
-    try:
-        config.record.mkdir(exist_ok=True)
-    except OSError as exc:
-        raise CliError(f"--record: cannot write frames to '{config.record}': {exc.strerror}") from None
-    if not config.record.is_dir() or not os.access(config.record, os.W_OK):
-        raise CliError(f"--record: cannot write frames to '{config.record}': not a writable directory")
     try:
         return recording.record(session, config.record, config.duration, config.fps, config.size,
                                 picture_text(config))

@@ -25,6 +25,7 @@ from robot_sim.graphics.themes import DEFAULT_THEME
 from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
 from robot_sim.io.world_file import WorldDefinitionError, load_world
+from robot_sim.io.xacro_file import parse_xacro_args
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
 from robot_sim.model.messages import clip
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
@@ -79,15 +80,15 @@ def config_from_args(args: argparse.Namespace) -> Config:
     robot = load_robot_arg(args)
     if args.workspace:
         check_workspace(args.workspace, robot)
-    pick_plan, pick_effort, pick_report = pick_arguments(args, robot)
-    duration = RECORD_DEFAULT_DURATION_S if pick_plan is None else max(pick_plan.duration - args.time, 0.0)
-    if args.duration is not None:
-        duration = args.duration
-    simulate = duration if args.motion is not None and args.record is None and args.duration is not None else 0.0
     try:
         world = None if args.world is None else load_world(args.world)
     except WorldDefinitionError as exc:
         raise CliError(f"--world: {exc}") from None
+    pick_plan, pick_effort, pick_report = pick_arguments(args, robot, world)
+    duration = RECORD_DEFAULT_DURATION_S if pick_plan is None else max(pick_plan.duration - args.time, 0.0)
+    if args.duration is not None:
+        duration = args.duration
+    simulate = duration if args.motion is not None and args.record is None and args.duration is not None else 0.0
     return Config(
         robot_arg=args.robot,
         robot=robot,
@@ -118,15 +119,18 @@ def config_from_args(args: argparse.Namespace) -> Config:
 
 
 def load_robot_arg(args: argparse.Namespace) -> RobotParams:
-    """``--robot`` (with --tip, --convention, --skip-missing-meshes) loaded; each mesh
-    skipped is one warning line on stderr."""
+    """``--robot`` (with --tip, --convention, --skip-missing-meshes, --xacro-arg) loaded;
+    each mesh skipped is one warning line on stderr."""
     try:
+        xacro_args = parse_xacro_args(args.xacro_arg)
         with warnings.catch_warnings(record=True) as skipped:
             warnings.simplefilter("always", MeshSkippedWarning)
             robot = load_robot(args.robot, tip=args.tip, convention=args.convention,
-                               skip_missing_meshes=args.skip_missing_meshes)
+                               skip_missing_meshes=args.skip_missing_meshes, xacro_args=xacro_args or None)
     except RobotDefinitionError as exc:
         raise CliError(str(exc)) from None
+    except ValueError as exc:  # xacro arguments, or given for a robot that is not a xacro file
+        raise CliError(f"--xacro-arg: {exc}") from None
     for warning in skipped:
         if issubclass(warning.category, MeshSkippedWarning):
             print(f"{PROG}: warning: {' '.join(str(warning.message).split())}", file=sys.stderr)
@@ -276,16 +280,18 @@ def parse_joint_number(option: str, text: str, n_dofs: int) -> int:
     return int(text)
 
 
-def pick_arguments(args: argparse.Namespace, robot: RobotParams) -> tuple[TaskPlan | None, np.ndarray | None, str | None]:
-    """--demo pick (with --task and --motion): the plan (made here, so an impossible task is
-    one line before anything opens or moves) and, with --motion, the plan as the simulated
-    controller ran it, its efforts and its one-line tracking report."""
+def pick_arguments(args: argparse.Namespace, robot: RobotParams, world: World | None = None
+                   ) -> tuple[TaskPlan | None, np.ndarray | None, str | None]:
+    """--demo pick (with --task and --motion): the plan among the task's and ``world``'s
+    (--world) obstacles (made here, so an impossible task is one line before anything
+    opens or moves) and, with --motion, the plan as the simulated controller ran it, its
+    efforts and its one-line tracking report."""
     if args.demo != "pick":
         return None, None, None
     from robot_sim.viewer.pick_demo import plan_for  # the planner: numba
 
     try:
-        plan = plan_for(robot, args.task)
+        plan = plan_for(robot, args.task, world)
     except ValueError as exc:  # TaskDefinitionError, TaskError
         raise CliError(str(exc)) from None
     if args.motion is None:

@@ -19,14 +19,17 @@ from typing import Sequence
 import numpy as np
 
 from robot_sim.sim.sweep import METRICS, MODES, sweep
-from robot_sim.io.files import FileError
+from robot_sim.io.files import FileError, check_writable
 from robot_sim.io.robot_file import load_robot
+from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotDefinitionError
 
 PROG = "robot-sim sweep"
 #: Options that take swept values, and the sweep parameter each sets.
 SWEPT = {"kp": "kp", "kd": "kd", "bandwidth": "bandwidth", "damping": "damping", "payload": "payload"}
 MAX_RUNS = 10**7
+#: Seconds to wait for a Dask scheduler to answer (--scheduler).
+SCHEDULER_TIMEOUT_S = 3.0
 BAR_WIDTH = 30
 
 
@@ -55,6 +58,19 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def count_values(option: str, text: str) -> int:
+    """How many values ``text`` gives (``START:STOP:COUNT``'s COUNT, the items of a list),
+    read before any is built; SweepCliError naming ``option`` for a COUNT that is not a
+    whole number 1..MAX_RUNS."""
+    if ":" not in text:
+        return text.count(",") + 1
+    count = text.rsplit(":", 1)[1].strip()
+    if not count.isdigit() or not 1 <= int(count) <= MAX_RUNS:
+        raise SweepCliError(f"--{option} {clip_repr(text)}: expected START:STOP:COUNT (COUNT a whole number "
+                            f"1..{MAX_RUNS}), a,b,c or one number")
+    return int(count)
+
+
 def parse_values(option: str, text: str) -> list[float]:
     """``START:STOP:COUNT``, ``a,b,c`` or one number → the values (finite, >= 0)."""
     try:
@@ -68,10 +84,10 @@ def parse_values(option: str, text: str) -> list[float]:
             values = [float(v) for v in text.split(",")]
     except ValueError:
         raise SweepCliError(
-            f"--{option} {text!r}: expected START:STOP:COUNT (COUNT a whole number 1..{MAX_RUNS}), a,b,c or one number"
+            f"--{option} {clip_repr(text)}: expected START:STOP:COUNT (COUNT a whole number 1..{MAX_RUNS}), a,b,c or one number"
         ) from None
     if not all(math.isfinite(v) and v >= 0 for v in values):
-        raise SweepCliError(f"--{option} {text!r}: values must be finite and >= 0")
+        raise SweepCliError(f"--{option} {clip_repr(text)}: values must be finite and >= 0")
     return values
 
 
@@ -90,16 +106,34 @@ class ProgressBar:
         self.stream.flush()
 
 
+def _connect(client_type, address: str):  # noqa: ANN001, ANN202  (dask's Client, imported on request)
+    """A client of the Dask scheduler at ``address``, or SweepCliError within
+    SCHEDULER_TIMEOUT_S when the address is malformed or nothing answers there."""
+    try:
+        return client_type(address, timeout=SCHEDULER_TIMEOUT_S)
+    except ValueError:
+        raise SweepCliError(f"--scheduler {clip_repr(address)}: not a scheduler address; expected tcp://HOST:PORT "
+                            "(an IPv6 host in brackets)") from None
+    except (OSError, TimeoutError):
+        raise SweepCliError(f"--scheduler {clip_repr(address)}: no Dask scheduler answered within "
+                            f"{SCHEDULER_TIMEOUT_S:g} s") from None
+
+
 def main(argv: Sequence[str]) -> int:
     """Run ``robot-sim sweep`` with ``argv`` (the arguments after ``sweep``); exit status."""
     try:
         args = build_parser().parse_args(list(argv))
-        grid = {SWEPT[k]: parse_values(k, getattr(args, k)) for k in SWEPT if getattr(args, k) is not None}
-        if not grid:
+        given = {k: getattr(args, k) for k in SWEPT if getattr(args, k) is not None}
+        if not given:
             raise SweepCliError(f"give at least one swept value: {', '.join('--' + k for k in SWEPT)}")
-        n_runs = math.prod(len(v) for v in grid.values())
+        n_runs = math.prod(count_values(k, text) for k, text in given.items())  # before any value is built
         if n_runs > MAX_RUNS:
-            raise SweepCliError(f"the grid has {n_runs} runs; at most {MAX_RUNS}")
+            raise SweepCliError(f"{' × '.join('--' + k for k in given)}: the grid has {n_runs} runs; at most {MAX_RUNS}")
+        grid = {SWEPT[k]: parse_values(k, text) for k, text in given.items()}
+        try:
+            check_writable(args.out)  # before the sweep runs, not after
+        except FileError as exc:
+            raise SweepCliError(f"--out: {exc}") from None
         try:
             robot = load_robot(args.robot)
         except (RobotDefinitionError, FileError, OSError, ValueError) as exc:
@@ -111,7 +145,7 @@ def main(argv: Sequence[str]) -> int:
                 from distributed import Client
             except ImportError:
                 raise SweepCliError("--scheduler needs dask.distributed: pip install 'robot-sim[dask]'") from None
-            client = Client(args.scheduler)
+            client = _connect(Client, args.scheduler)
         try:
             table = sweep(
                 robot, grid, args.motion, args.duration, metrics, dt=args.dt, chunk_size=args.chunk,

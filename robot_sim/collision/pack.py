@@ -41,9 +41,11 @@ def _record(pose: FloatArray) -> FloatArray:
 
 
 def pack(shapes: list) -> Packed:
-    """Pack ``shapes`` (any of the model's shape types), keeping their order."""
+    """Pack ``shapes`` (any of the model's shape types), keeping their order; meshes made
+    from one read of a file at one scale share one block of vertices."""
     kinds, recs, verts, centers, radii = [], [], [], [], []
     n_verts = 0
+    blocks: dict[tuple[int, bytes], tuple[int, int, FloatArray, float]] = {}  # a mesh's vertices, packed once
     for shape in shapes:
         center, radius = None, 0.0
         if isinstance(shape, Sphere):
@@ -64,13 +66,16 @@ def pack(shapes: list) -> Packed:
             radius = math.hypot(shape.radius, 0.5 * shape.length)
         elif isinstance(shape, Mesh):
             kind, rec = L.CONVEX, _record(shape.pose)
-            v = np.unique(np.asarray(shape.vertices, dtype=float), axis=0)
-            mid = 0.5 * (v.min(axis=0) + v.max(axis=0))
-            radius = float(np.linalg.norm(v - mid, axis=1).max())
+            key = (id(shape.data[0]), shape.scale.tobytes())  # shapes of one file share one block
+            if key not in blocks:
+                v = np.unique(np.asarray(shape.vertices, dtype=float), axis=0)
+                mid = 0.5 * (v.min(axis=0) + v.max(axis=0))
+                blocks[key] = (n_verts, len(v), mid, float(np.linalg.norm(v - mid, axis=1).max()))
+                verts.append(v)
+                n_verts += len(v)
+            start, count, mid, radius = blocks[key]
             center = shape.pose[:3, :3] @ mid + shape.pose[:3, 3]
-            rec[L.VSTART], rec[L.VCOUNT] = n_verts, len(v)
-            verts.append(v)
-            n_verts += len(v)
+            rec[L.VSTART], rec[L.VCOUNT] = start, count
         elif isinstance(shape, HalfSpace):
             kind, rec = L.HALFSPACE, _record(shape.pose)
             radius = math.inf

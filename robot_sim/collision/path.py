@@ -91,6 +91,9 @@ def check_path(checker, q_path, times: ArrayLike | None = None) -> PathCheck:  #
     Q = check_joint_vector(q_path, checker.robot.n_dofs, "q_path")
     if Q.ndim == 1:
         Q = Q[None]
+    if len(Q) == 0:
+        raise ValueError(f"path_is_free: q_path holds no configuration; expected (K, {checker.robot.n_dofs}) "
+                         "waypoints with K >= 1")
     t = np.arange(len(Q), dtype=float) if times is None else np.asarray(times, dtype=float)
     if t.shape != (len(Q),) or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0.0):
         raise ValueError(f"path_is_free: times must be {len(Q)} finite, strictly increasing values, got {t!r}")

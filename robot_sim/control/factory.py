@@ -12,10 +12,14 @@ from robot_sim.control.controllers import PD, ComputedTorque, Controller, Gains,
 from robot_sim.control.task_space import TASK_MODES, make_task_controller
 from robot_sim.model.params import RobotParams
 
+#: Keyword options of the joint-space modes (those of control_gains).
+JOINT_OPTIONS = ("bandwidth", "damping")
+
 
 def make_controller(mode: str, robot: RobotParams, gains: Gains | None = None, **options: Any) -> Controller:
     """Controller of ``mode``: joint space (``passive``, ``pd``, ``pdg``, ``ct``; gains
-    default to :func:`~robot_sim.control.controllers.control_gains` of the robot) or task
+    default to :func:`~robot_sim.control.controllers.control_gains` of the robot, with the
+    options ``bandwidth`` [Hz] and ``damping`` (ζ) as the task-space modes take them) or task
     space (``osc``, ``impedance``, ``resolved_rate``, with the keyword ``options`` of
     :func:`~robot_sim.control.task_space.make_task_controller`, e.g. ``bandwidth``,
     ``damping``, ``null_space``).  ValueError for another mode or an option a mode does
@@ -25,8 +29,12 @@ def make_controller(mode: str, robot: RobotParams, gains: Gains | None = None, *
     kinds = {"passive": Passive, "pd": PD, "pdg": PDGravity, "ct": ComputedTorque}
     if mode not in kinds:
         raise ValueError(f"mode must be one of {', '.join([*kinds, *TASK_MODES])}, got {mode!r}")
-    if options:
-        raise ValueError(f"the {mode} controller takes no options, got {', '.join(sorted(options))}")
+    extra = sorted(set(options) - set(JOINT_OPTIONS)) if mode != "passive" else sorted(options)
+    if extra:
+        takes = "no options" if mode == "passive" else f"only {' and '.join(JOINT_OPTIONS)}"
+        raise ValueError(f"the {mode} controller takes {takes}, got {', '.join(extra)}")
+    if gains is not None and options:
+        raise ValueError(f"give gains or {', '.join(sorted(options))}, not both")
     if mode == "passive":
         return Passive(robot)
-    return kinds[mode](robot, gains if gains is not None else control_gains(robot))
+    return kinds[mode](robot, gains if gains is not None else control_gains(robot, **options))

@@ -14,6 +14,7 @@ from robot_sim.model.params import RobotDefinitionError
 from robot_sim.transforms import HomogeneousTransform
 
 MAX_LENGTH = 1000.0  # m: |a|, |d|, base and tool xyz, prismatic home and limits
+MAX_JOINTS = 100  # moving joints of a robot (robot files and URDF chains)
 FRAME_KEYS = {"xyz", "rpy"}
 
 

@@ -15,6 +15,7 @@ from robot_sim.model.inertials import (
     Drives,
     FloatArray,
     LinkInertials,
+    balance_link_inertias,
     inertia_from_elements,
     inertia_problem,
 )
@@ -22,11 +23,14 @@ from robot_sim.model.inertials import (
 from robot_sim.io.checker import FieldChecker
 
 
-def parse_joint_tables(check: FieldChecker, joints: list[dict[str, Any]]) -> tuple[LinkInertials | None, Drives | None]:
+def parse_joint_tables(check: FieldChecker, joints: list[dict[str, Any]], balance: bool = False
+                       ) -> tuple[LinkInertials | None, Drives | None]:
     """Inertials and drives from the ``[joints.inertial]`` and ``[joints.drive]`` tables of
     already-checked joint tables.  Every joint or none must have an inertial table, and a
     joint may not give both the scalar ``com`` fraction and an inertial table.  Raises
-    RobotDefinitionError (through ``check``) naming file, joint, field and value."""
+    RobotDefinitionError (through ``check``) naming file, joint, field and value.  With
+    ``balance`` (the file's ``balance_inertia = true``) an inertia that only violates the
+    triangle inequality is balanced instead, with an InertiaBalancedWarning naming it."""
     with_inertial = [i for i, joint in enumerate(joints) if "inertial" in joint]
     inertials = None
     if with_inertial:
@@ -37,7 +41,7 @@ def parse_joint_tables(check: FieldChecker, joints: list[dict[str, Any]]) -> tup
                 f"missing, but joints[{with_inertial[0]}] has one; give [joints.inertial] "
                 "for every joint or for none",
             )
-        rows = [_parse_inertial(check, joint, f"joints[{i}]") for i, joint in enumerate(joints)]
+        rows = [_parse_inertial(check, joint, f"joints[{i}]", balance) for i, joint in enumerate(joints)]
         inertials = LinkInertials(
             frozen([r[0] for r in rows], (len(rows),)),
             frozen([r[1] for r in rows], (len(rows), 3)),
@@ -57,7 +61,8 @@ def _table(check: FieldChecker, value: Any, where: str, keys: set[str]) -> dict[
     return value
 
 
-def _parse_inertial(check: FieldChecker, joint: dict[str, Any], where: str) -> tuple[float, list[float], FloatArray]:
+def _parse_inertial(check: FieldChecker, joint: dict[str, Any], where: str, balance: bool
+                    ) -> tuple[float, list[float], FloatArray]:
     if "com" in joint:
         raise check.fail(
             f"{where}.com",
@@ -75,12 +80,15 @@ def _parse_inertial(check: FieldChecker, joint: dict[str, Any], where: str) -> t
     com = check.vector(table["com"], 3, f"{where}.com")
     elements = check.vector(table["inertia"], 6, f"{where}.inertia")
     inertia = inertia_from_elements(*elements)
+    if balance:
+        inertia = balance_link_inertias(inertia[None], [f"{check.path}: {where}.inertia"])[0]
     problem = inertia_problem(inertia)
     if problem:
+        hint = "; or set balance_inertia = true" if "triangle" in problem else ""
         raise check.fail(
             f"{where}.inertia",
-            f"{table['inertia']!r} {problem}; accepted: [Ixx, Iyy, Izz, Ixy, Iyz, Ixz] (kg m^2) of a "
-            "positive semi-definite tensor whose principal moments obey the triangle inequality",
+            f"{clip_repr(table['inertia'])} {problem}; accepted: [Ixx, Iyy, Izz, Ixy, Iyz, Ixz] (kg m^2) of a "
+            f"positive semi-definite tensor whose principal moments obey the triangle inequality{hint}",
         )
     return mass, com, inertia
 

@@ -7,12 +7,17 @@
   or holds ``PKG/``), then in the URDF's parent folders (one named ``PKG`` or holding
   ``PKG/``), and last as the nearest parent folder that holds the rest of the path (a
   description copied out of its ROS package under another name, as RViz users often do).
-* :func:`read_mesh` reads STL, OBJ and PLY through ``trimesh`` and Collada DAE through
-  ``trimesh`` with ``pycollada``: the triangles of the whole file in metres (a DAE's
-  ``<unit meter=...>`` is applied, its ``up_axis`` is not, as in RViz), node transforms
-  applied.  ``trimesh`` is imported on the first read, so robots without meshes never
-  load it.  A file unchanged since it was read (size, modification time) is not read
-  again: a robot edited in the DH table is parsed again at every edit.
+* :func:`read_mesh` is the one reader of mesh files, for URDFs, robot files, world files
+  and ``Mesh(path)`` (installed as ``robot_sim.model.shapes.MESH_FILE_READER``).  It
+  accepts STL, OBJ, PLY and Collada DAE (no archives, no other format), refuses a file
+  over MAX_MESH_BYTES before reading it, and parses it with
+  :mod:`robot_sim.io.mesh_formats` (declared element counts checked against the file's
+  size first): the triangles of the whole file in metres (a DAE's ``<unit meter=...>`` is
+  applied, its ``up_axis`` is not, as in RViz), node transforms applied.  ``trimesh`` is
+  imported on the first read, so robots without meshes never load it.  A file unchanged
+  since it was read (resolved path, size, modification time) is not read again, nor one
+  that failed: a robot edited in the DH table is parsed again at every edit, and a
+  thousand obstacles of one file share one copy of its triangles.
 * :class:`MeshReader` reads the meshes of one robot description into shapes and turns a
   failure into the caller's one-line error, or, with ``skip_missing``, into one
   :class:`MeshSkippedWarning` per file and no shape.
@@ -22,28 +27,25 @@ Vertices are metres in the mesh file's own frame (before any scale or pose).
 from __future__ import annotations
 
 import errno
-import io
 import os
 import warnings
 from collections.abc import Callable
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from robot_sim.io.files import FileReadError, read_regular_file
-from robot_sim.model.messages import clip
+from robot_sim.io.mesh_formats import MESH_FORMATS, MeshArrays, MeshFormatError, parse_mesh
+from robot_sim.model import shapes
+from robot_sim.model.messages import clip, clip_middle, clip_repr
 from robot_sim.model.shapes import Color, Mesh
 
-#: Mesh file formats read (suffix, lower case) and trimesh's name of each.
-MESH_FORMATS = {".stl": "stl", ".obj": "obj", ".ply": "ply", ".dae": "dae"}
-#: Largest mesh file read (bytes): CAD exports of arm links are far smaller.
-MAX_MESH_BYTES = 256 << 20
+#: Largest mesh file read (bytes), checked before reading: CAD exports of arm links are
+#: far smaller, and parsing takes several times a file's size in memory.
+MAX_MESH_BYTES = 64 << 20
 #: Environment variable listing ROS package folders (``os.pathsep`` separated).
 PACKAGE_PATH_VARIABLE = "ROS_PACKAGE_PATH"
-
-MeshArrays = tuple[NDArray[np.float64], NDArray[np.int64]]
 
 
 class MeshError(ValueError):
@@ -69,6 +71,12 @@ def _package_dirs(package: str, urdf_dir: Path, package_path: str | None) -> lis
     return candidates
 
 
+def package_folder(package: str, urdf_dir: Path, package_path: str | None) -> Path | None:
+    """The first existing folder of ROS package ``package`` for a description in folder
+    ``urdf_dir`` (searched as :func:`resolve_mesh_uri` does), or None."""
+    return next((d for d in _package_dirs(package, Path(os.path.abspath(urdf_dir)), package_path) if d.is_dir()), None)
+
+
 def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) -> Path:
     """The file a URDF mesh ``uri`` names, for a URDF in folder ``urdf_dir``.
 
@@ -78,6 +86,7 @@ def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) 
     """
     if not uri.strip():
         raise MeshError("empty mesh filename")
+    urdf_dir = Path(os.path.abspath(urdf_dir))  # a URDF named "arm.urdf" still has parent folders
     parts = urlsplit(uri)
     scheme = parts.scheme.lower()
     if scheme == "package":
@@ -93,7 +102,7 @@ def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) 
             if (parent / rest).is_file():
                 return parent / rest
         where = f"{PACKAGE_PATH_VARIABLE} ({clip(package_path) or 'unset'})"
-        raise MeshError(f"package '{package}' with {rest} not found in {where} or the URDF's parent folders")
+        raise MeshError(f"package '{clip(package)}' with {clip_middle(rest)} not found in {where} or the URDF's parent folders")
     if scheme == "file":
         path = Path(unquote(parts.path))
     elif scheme and len(scheme) > 1:  # "c:" is a drive, not a scheme
@@ -106,60 +115,63 @@ def resolve_mesh_uri(uri: str, urdf_dir: Path, package_path: str | None = None) 
 def read_mesh(path: Path) -> MeshArrays:
     """Vertices (V, 3) [m] and triangles (F, 3) of the mesh file at ``path`` (read-only).
 
-    A file read before and unchanged since (same size and modification time) is not
-    read again.  Raises :class:`MeshError` naming the path for a missing, unreadable or
-    oversized file, a format other than STL, OBJ, PLY or DAE, contents that do not
-    parse, or a file without a triangle.
+    The one reader of mesh files (URDF, robot and world files, ``Mesh(path)``).  A file
+    read before and unchanged since (same resolved path, size and modification time) is
+    not read again, and neither is one that failed.  Raises :class:`MeshError` naming the
+    path (a long one cut in the middle) and the kind of fault for a missing, unreadable or
+    oversized file (MAX_MESH_BYTES, checked before reading), a format other than STL,
+    OBJ, PLY or DAE, declared element counts the file cannot hold, contents that do not
+    parse, or a file without a triangle; the file's contents are never quoted.
     """
+    shown = clip_middle(str(path))
     suffix = path.suffix.lower()
     if suffix not in MESH_FORMATS:
-        raise MeshError(f"{path}: unsupported mesh format '{path.suffix}'; accepted: {', '.join(MESH_FORMATS)}")
+        raise MeshError(f"{shown}: unsupported mesh format {clip_repr(path.suffix)}; accepted: {', '.join(MESH_FORMATS)}")
     try:
-        info = os.stat(path)
-        key = (os.path.abspath(path), info.st_size, info.st_mtime_ns)
-    except OSError:
+        resolved = os.path.realpath(path)
+        info = os.stat(resolved)
+        key = (resolved, info.st_size, info.st_mtime_ns)
+    except (OSError, ValueError):
         key = None  # read_regular_file says why
     if key in _CACHE:
         return _CACHE[key]
+    if key in _FAILED:
+        raise MeshError(_FAILED[key])
     try:
-        raw = read_regular_file(path, MAX_MESH_BYTES)
-    except FileReadError as exc:
-        raise MeshError(f"{path}: {'mesh file not found' if exc.errno == errno.ENOENT else exc.reason}") from None
-    arrays = _parse_mesh(raw, suffix, path)
+        arrays = _read(path, shown, suffix)
+    except MeshError as exc:
+        if key is not None:
+            _FAILED[key] = str(exc)
+            while len(_FAILED) > MAX_CACHED_FAILURES:
+                _FAILED.pop(next(iter(_FAILED)))
+        raise
     if key is not None:
         _remember(key, arrays)
     return arrays
 
 
-def _parse_mesh(raw: bytes, suffix: str, path: Path) -> MeshArrays:
-    """The triangles of the mesh file contents ``raw`` (format by ``suffix``) in metres."""
+def _read(path: Path, shown: str, suffix: str) -> MeshArrays:
     try:
-        import trimesh  # imported here: only robots with meshes need it
-    except ImportError:
-        raise MeshError(f"{path}: reading mesh files needs trimesh (pip install trimesh)") from None
+        raw = read_regular_file(path, MAX_MESH_BYTES)
+    except FileReadError as exc:
+        raise MeshError(f"{shown}: {'mesh file not found' if exc.errno == errno.ENOENT else exc.reason}") from None
     try:
-        mesh = trimesh.load(io.BytesIO(raw), file_type=MESH_FORMATS[suffix], force="mesh")
-        vertices = np.array(mesh.vertices, dtype=float).reshape(-1, 3)
-        faces = np.array(mesh.faces, dtype=np.int64).reshape(-1, 3)
-        if suffix == ".dae" and mesh.units:  # <unit meter="0.001"/> reads "0.001 * meters"
-            vertices *= trimesh.units.unit_conversion(mesh.units, "meters")
-    except ImportError as exc:  # DAE without pycollada
-        raise MeshError(f"{path}: reading {suffix} files needs {exc.name or 'pycollada'} (pip install pycollada)") from None
-    except Exception as exc:  # trimesh and its parsers raise anything on a corrupt file
-        raise MeshError(f"{path}: not a readable {suffix} mesh: {clip(str(exc) or type(exc).__name__)}") from None
-    if faces.shape[0] == 0:
-        raise MeshError(f"{path}: not a readable {suffix} mesh: it holds no triangles")
-    if not np.isfinite(vertices).all():
-        raise MeshError(f"{path}: not a readable {suffix} mesh: a vertex is not a finite number")
-    vertices.setflags(write=False)
-    faces.setflags(write=False)
-    return vertices, faces
+        return parse_mesh(raw, suffix)
+    except MeshFormatError as exc:
+        raise MeshError(f"{shown}: not a readable {suffix} mesh: {exc}") from None
+    except ImportError as exc:
+        package = "trimesh" if exc.name == "trimesh" else (exc.name or "pycollada")
+        raise MeshError(f"{shown}: reading {suffix} files needs {package} (pip install {package})") from None
 
 
-#: Meshes read, by (absolute path, size, modification time).
+#: Meshes read, by (resolved path, size, modification time).
 _CACHE: dict[tuple[str, int, int], MeshArrays] = {}
+#: Files that could not be read, by the same key, and the error each gave.
+_FAILED: dict[tuple[str, int, int], str] = {}
 #: Bytes of vertex and face data the cache keeps at most (the oldest entries go first).
 MAX_CACHED_MESH_BYTES = 1 << 30
+#: Failures remembered at most (the oldest go first).
+MAX_CACHED_FAILURES = 1024
 
 
 def _remember(key: tuple[str, int, int], arrays: MeshArrays) -> None:
@@ -207,3 +219,6 @@ class MeshReader:
             return Mesh.from_file_data(path, vertices, faces, pose=pose, scale=scale, color=color)
         except ValueError as exc:  # a scale or colour the shape refuses
             raise self.fail(where, clip(str(exc))) from None
+
+
+shapes.MESH_FILE_READER[:] = [read_mesh]

@@ -17,12 +17,14 @@ from typing import Any
 import numpy as np
 
 from robot_sim.model.arrays import frozen
-from robot_sim.io.checker import LENGTH_BOUND, MAX_LENGTH, Bound, FieldChecker
+from robot_sim.io.checker import LENGTH_BOUND, MAX_JOINTS, MAX_LENGTH, Bound, FieldChecker
 from robot_sim.io.files import FileReadError, read_regular_file
 from robot_sim.io.inertial_tables import parse_joint_tables
 from robot_sim.io.meshes import MeshReader
 from robot_sim.io.shape_tables import GEOMETRY_KEYS, ShapeTables
-from robot_sim.model.messages import clip, clip_repr
+from robot_sim.io.robot_kind import ACCEPTED, SUFFIX_KINDS, robot_kind
+from robot_sim.io.toml_depth import MAX_TOML_DEPTH, nesting_too_deep
+from robot_sim.model.messages import clip, clip_middle, clip_repr
 from robot_sim.model.params import (
     CONVENTION_STANDARD,
     CONVENTIONS,
@@ -47,7 +49,8 @@ def _robots_dir() -> Path:
 ROBOTS_DIR = _robots_dir()
 
 UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
-TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control", "collision"}
+TOP_KEYS = {"name", "description", "units", "convention", "joints", "base", "tool", "control", "collision",
+            "balance_inertia"}
 REQUIRED_TOP_KEYS = ("name", "units", "joints")
 JOINT_KEYS = {"type", "a", "alpha", "d", "theta", "home", "limits", "com", "inertial", "drive", *GEOMETRY_KEYS}
 DH_KEYS = ("a", "alpha", "d", "theta")
@@ -63,7 +66,6 @@ COLLISION_KEYS = {"allow"}
 # lengths within ±MAX_LENGTH and angles within ±MAX_ANGLE_DEG, forward kinematics is
 # finite everywhere inside the limits and every slider range fits a Qt slider's int range.
 MAX_ANGLE_DEG = 1800.0  # deg (5 turns): alpha, theta, base and tool rpy, revolute home and limits
-MAX_JOINTS = 100
 MAX_FILE_BYTES = 1 << 20
 MAX_NAME_CHARS = 200
 
@@ -75,20 +77,21 @@ def available_robots() -> list[str]:
 
 
 def resolve_robot_path(name_or_path: str | Path) -> Path:
-    """Path of a robot file given a shipped robot's name or a path to a ``.toml`` or
-    ``.urdf`` file.
+    """Path of a robot description given a shipped robot's name or a path to a robot
+    file, a URDF or a xacro file (any name: :func:`robot_sim.io.robot_kind.robot_kind`).
 
-    Raises RobotDefinitionError for an unknown name (listing the available robots) or a
-    missing file.
+    Raises RobotDefinitionError for a name that is neither a shipped robot nor an
+    existing file, saying what is accepted and listing the shipped robots.
     """
     text = str(name_or_path)
-    if text.lower().endswith((".toml", ".urdf")) or "/" in text or "\\" in text:
+    if text in available_robots():
+        return ROBOTS_DIR / f"{text}.toml"
+    if Path(text).suffix.lower() in SUFFIX_KINDS or "/" in text or "\\" in text or Path(text).exists():
         return Path(text)  # checked when read, so every reason is reported as it is
-    if text not in available_robots():
-        raise RobotDefinitionError(
-            f"unknown robot {clip_repr(text)}; available robots: {', '.join(available_robots())}"
-        )
-    return ROBOTS_DIR / f"{text}.toml"
+    raise RobotDefinitionError(
+        f"unknown robot {clip_repr(text)}: no such file and no shipped robot of that name; accepted: "
+        f"{ACCEPTED}; available robots: {', '.join(available_robots())}"
+    )
 
 
 def _read_text(path: Path, what: str, error: type[ValueError]) -> str:
@@ -114,10 +117,14 @@ def _read_text(path: Path, what: str, error: type[ValueError]) -> str:
 
 def load_robot(
     name_or_path: str | Path, tip: str | None = None, convention: str | None = None,
-    skip_missing_meshes: bool = False,
+    skip_missing_meshes: bool = False, xacro_args: dict[str, str] | None = None,
 ) -> RobotParams:
-    """Load and validate a robot by shipped name (``"puma560"``), ``.toml`` path or
-    ``.urdf`` path.
+    """Load and validate a robot by shipped name (``"puma560"``), robot-file path, URDF
+    path or xacro path (any suffix: an XML file with a ``<robot>`` root is a URDF).
+
+    A xacro file is expanded with the ``xacro`` package (optional: ``pip install xacro``)
+    and ``xacro_args`` (``{"name": "value"}``, as ``xacro FILE name:=value``), then read
+    as a URDF (:mod:`robot_sim.io.xacro_file`).
 
     A URDF becomes a DH robot (``urdf.load_urdf``): the chain from the root link to
     ``tip`` (needed when the tree branches), in ``convention`` (standard by default).  A
@@ -130,11 +137,19 @@ def load_robot(
     if convention is not None and convention not in CONVENTIONS:
         raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
     path = resolve_robot_path(name_or_path)
-    if path.suffix.lower() == ".urdf":
+    kind = robot_kind(path)
+    if xacro_args and kind != "xacro":
+        raise ValueError(f"xacro_args apply to xacro files only; {clip_middle(str(path))} is a {kind} file")
+    if kind in ("urdf", "xacro"):
         from robot_sim.io.urdf_in import load_urdf  # urdf builds on this module
 
+        contents = None
+        if kind == "xacro":
+            from robot_sim.io.xacro_file import expand_xacro  # optional: needs the xacro package
+
+            contents = expand_xacro(path, xacro_args)
         robot = load_urdf(path, tip=tip, convention=convention or CONVENTION_STANDARD,
-                          skip_missing_meshes=skip_missing_meshes)
+                          skip_missing_meshes=skip_missing_meshes, contents=contents)
         check_bounds(robot, path)
         return robot
     if tip is not None:
@@ -177,8 +192,12 @@ def check_bounds(robot: RobotParams, path: Path | str) -> None:
 def read_toml(path: Path, what: str = "robot file", error: type[ValueError] = RobotDefinitionError) -> dict[str, Any]:
     """The parsed TOML of ``what`` at ``path`` (robot and task files): read as by
     :func:`_read_text`; ``error`` starting with the path for any unreadable or invalid
-    file (nesting too deep, an integer of more than 4300 digits included)."""
+    file (keys nested more than MAX_TOML_DEPTH levels, found by a pre-scan before
+    parsing; an integer of more than 4300 digits included)."""
     text = _read_text(path, what, error)
+    deep = nesting_too_deep(text)
+    if deep is not None:
+        raise error(f"{path}: line {deep}: keys, tables or arrays nested more than {MAX_TOML_DEPTH} levels deep")
     try:
         return tomllib.loads(text)
     except RecursionError:
@@ -269,7 +288,10 @@ def _parse_robot(data: dict[str, Any], path: Path, skip_missing_meshes: bool = F
         for key, value in zip(columns, (a, alpha, d, theta, home, lo, hi, com)):
             columns[key].append(value)
 
-    inertials, drives = parse_joint_tables(check, joints)
+    balance = data.get("balance_inertia", False)
+    if not isinstance(balance, bool):
+        raise check.fail("balance_inertia", f"expected true or false, got {clip_repr(balance)}")
+    inertials, drives = parse_joint_tables(check, joints, balance)
     base, base_tables = data.get("base", {}), {}
     if isinstance(base, dict):  # [base] holds frame 0's pose and the base's geometry
         check.keys(base, {"xyz", "rpy", *GEOMETRY_KEYS}, "base")

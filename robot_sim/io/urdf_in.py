@@ -56,6 +56,7 @@ import numpy as np
 
 from robot_sim.model.axes_dh import GEOMETRY_TOL, dh_frames_from_axes, modified_row
 from robot_sim.model.convert import to_convention
+from robot_sim.io.checker import MAX_JOINTS
 from robot_sim.io.files import FileReadError, read_regular_file
 from robot_sim.io.meshes import MeshReader
 from robot_sim.io.urdf_shapes import LinkGeometry, MeshRef, Shape, link_geometry, materials, placed
@@ -68,6 +69,7 @@ from robot_sim.model.params import (
     RobotDefinitionError,
     RobotParams,
 )
+from robot_sim.model.messages import clip
 from robot_sim.transforms import HomogeneousTransform, dh_transform
 
 #: Joint types a chain may hold, and the ones refused there.
@@ -224,24 +226,27 @@ def _chain(path: Path, names: list[str], joints: list[_Joint], tip: str | None) 
     if len(roots) != 1:
         if not roots:
             raise RobotDefinitionError(f"{path}: the joints form a loop: no link is the root")
-        raise RobotDefinitionError(f"{path}: several root links ({', '.join(roots)}): the links must form one tree")
+        raise RobotDefinitionError(f"{path}: several root links ({clip(', '.join(roots))}): the links must form one tree")
+    reaches_root = {roots[0]}  # links whose walk up ends at the root: each walked once, O(links)
     for name in names:  # a loop not through the root: walking up never reaches it
-        seen, link = set(), name
-        while link in parent_joint:
-            if link in seen:
-                raise RobotDefinitionError(f"{path}: the joints form a loop through link '{link}'")
-            seen.add(link)
+        walk, on_walk, link = [], set(), name
+        while link not in reaches_root:
+            if link in on_walk:
+                raise RobotDefinitionError(f"{path}: the joints form a loop through link '{clip(link)}'")
+            walk.append(link)
+            on_walk.add(link)
             link = parent_joint[link].parent
+        reaches_root.update(walk)
     if tip is None:
         has_child = {j.parent for j in joints}
         leaves = [n for n in names if n not in has_child]
         if len(leaves) > 1:
             raise RobotDefinitionError(
-                f"{path}: the tree has several tips ({', '.join(leaves)}); choose one with tip= (--tip LINK)"
+                f"{path}: the tree has several tips ({clip(', '.join(leaves))}); choose one with tip= (--tip LINK)"
             )
         tip = leaves[0]
     elif tip not in names:
-        raise RobotDefinitionError(f"{path}: tip link '{tip}' is not declared; links: {', '.join(names)}")
+        raise RobotDefinitionError(f"{path}: tip link '{clip(tip)}' is not declared; links: {clip(', '.join(names))}")
     chain, link = [], tip
     while link in parent_joint:
         chain.append(parent_joint[link])
@@ -258,23 +263,28 @@ def _chain(path: Path, names: list[str], joints: list[_Joint], tip: str | None) 
 
 
 def load_urdf(
-    path: str | Path, tip: str | None = None, convention: str = "standard", skip_missing_meshes: bool = False
+    path: str | Path, tip: str | None = None, convention: str = "standard", skip_missing_meshes: bool = False,
+    contents: bytes | None = None,
 ) -> RobotParams:
     """A serial arm from a URDF file, as a DH robot in ``convention`` (see the module
     docstring for the construction), with its visual and collision geometry.  Raises
     RobotDefinitionError naming the file for anything it cannot load; a mesh file that
     cannot be found or read is left out with a MeshSkippedWarning when
-    ``skip_missing_meshes``."""
+    ``skip_missing_meshes``.  ``contents``, when given, is the URDF text of ``path`` (a
+    xacro file's expansion): the file is not read, its folder anchors mesh paths."""
     path = Path(path)
     if convention not in CONVENTIONS:
         raise ValueError(f"convention must be 'standard' or 'modified', got {convention!r}")
     try:
-        text = read_regular_file(path, MAX_URDF_BYTES)
+        text = read_regular_file(path, MAX_URDF_BYTES) if contents is None else contents
     except FileReadError as exc:
         reason = "URDF file not found" if exc.errno == errno.ENOENT else f"cannot read URDF file: {exc.reason}"
         raise RobotDefinitionError(f"{path}: {reason}") from None
     name, names, joints, link_inertials, geometry = _parse(text, path)
     chain = _chain(path, names, joints, tip)
+    moving = sum(j.kind in MOVING_TYPES for j in chain)
+    if moving > MAX_JOINTS:  # before the geometry and the DH construction, which take time per joint
+        raise RobotDefinitionError(f"{path}: {moving} joints; at most {MAX_JOINTS} are accepted")
     try:
         with np.errstate(all="ignore"):  # absurd numbers end as a refused value, not a warning
             robot = _build(path, name, chain, link_inertials)

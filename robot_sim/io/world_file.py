@@ -30,12 +30,14 @@ scale = [0.001, 0.001, 0.001]
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from robot_sim.io.checker import LENGTH_BOUND, FieldChecker
+from robot_sim.io.meshes import MeshError, read_mesh
 from robot_sim.io.robot_file import ANGLE_BOUNDS, UNITS, read_toml
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Sphere
@@ -150,15 +152,15 @@ def _mesh(check: _Checker, table: dict, where: str, pose: np.ndarray, color: Any
     rel = table["mesh"]
     if not isinstance(rel, str) or not rel:
         raise check.fail(f"{where}.mesh", f"expected a file path, got {clip_repr(rel)}")
-    file = (path.parent / rel).resolve()
-    if not file.is_file():
-        raise check.fail(f"{where}.mesh", f"mesh file {clip_repr(rel)} not found (looked for {file})")
     scale = [1.0, 1.0, 1.0]
     if "scale" in table:
         scale = [check.positive(v, f"{where}.scale[{i}]") for i, v in enumerate(_list3(check, table["scale"], f"{where}.scale"))]
-    mesh = Mesh(str(file), pose, scale, color)
     try:
-        mesh.vertices  # read now, so a bad file is reported here, naming the field
-    except ValueError as exc:
+        file = Path(os.path.abspath(path.parent / Path(rel).expanduser()))
+    except (OSError, ValueError):
+        raise check.fail(f"{where}.mesh", f"not a usable file path: {clip_repr(rel)}") from None
+    try:
+        vertices, faces = read_mesh(file)  # the one mesh reader: formats, size caps, cache
+    except MeshError as exc:
         raise check.fail(f"{where}.mesh", str(exc)) from None
-    return mesh
+    return Mesh.from_file_data(file, vertices, faces, pose=pose, scale=scale, color=color)

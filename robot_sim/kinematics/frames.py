@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.kernels.model import per_robot
 from robot_sim.kinematics.chain import CHUNK, _ChainModel, _model, _world0
-from robot_sim.model.params import RobotParams
+from robot_sim.model.params import RobotParams, require_robot
 from robot_sim.model.state import check_joint_vector
 from robot_sim.transforms import HomogeneousTransform
 
@@ -39,9 +39,10 @@ def forward_kinematics(
     result holds frames 0..n followed by the endeffector: (n+2, 4, 4) or (N, n+2, 4, 4).
     ``world_tf`` places the robot's base in the world (identity by default).
 
-    Raises ValueError if q does not have n values per configuration or holds NaN/inf.
+    Raises ValueError if q does not have n values per configuration or holds NaN/inf,
+    TypeError if ``robot`` is not a RobotParams (a robot's name included).
     """
-    Q = check_joint_vector(q, robot.n_dofs)
+    Q = check_joint_vector(q, require_robot(robot).n_dofs)
     single = Q.ndim == 1
     Q = np.ascontiguousarray(Q.reshape(-1, robot.n_dofs))
     N, n = Q.shape[0], robot.n_dofs

@@ -19,6 +19,7 @@ whose file has none.  This module imports neither Qt nor OpenGL.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +38,8 @@ DRIVE_DEFAULTS = {"motor_inertia": 0.0, "gear_ratio": 1.0, "viscous": 0.0,
 
 
 _REL_TOL = 1e-9  # relative tolerance of the positive-semidefinite and triangle checks
+#: Said after a triangle-inequality violation: how to accept such a table.
+BALANCE_HINT = "; balance_inertia raises the smallest moment just enough (a keyword, or balance_inertia = true in a robot file)"
 
 
 def inertia_problem(inertia: FloatArray) -> str | None:
@@ -53,6 +56,43 @@ def inertia_problem(inertia: FloatArray) -> str | None:
             f"({moments[2]:.6g} > {moments[0]:.6g} + {moments[1]:.6g})"
         )
     return None
+
+
+class InertiaBalancedWarning(UserWarning):
+    """An inertia was changed by ``balance_inertia`` (the message names the link and the
+    principal moments before and after)."""
+
+
+def balanced_inertia(inertia: FloatArray) -> FloatArray | None:
+    """The tensor with its smallest principal moment raised just enough to satisfy the
+    triangle inequality (MuJoCo's ``balanceinertia`` fixes the same tables), same
+    principal axes; None when ``inertia`` already satisfies it or has a negative moment
+    (which no balancing makes physical).  A moment a <= b <= c with c > a + b becomes
+    c - b, so c = a + b holds: the body is a flat plate, the nearest valid tensor with
+    those axes and the larger moments kept."""
+    moments, axes = np.linalg.eigh(inertia)
+    tol = _REL_TOL * max(float(np.abs(moments).max()), 1e-300)
+    if moments[0] < -tol or moments[2] <= moments[0] + moments[1] + tol:
+        return None
+    moments = moments.copy()
+    moments[0] = moments[2] - moments[1]
+    out = (axes * moments) @ axes.T
+    return 0.5 * (out + out.T)
+
+
+def balance_link_inertias(inertia: FloatArray, names: list[str]) -> FloatArray:
+    """``inertia`` (n, 3, 3) with each tensor that violates the triangle inequality
+    balanced (:func:`balanced_inertia`), one InertiaBalancedWarning per change naming
+    ``names[i]`` and the principal moments before and after [kg·m²]."""
+    out = np.array(inertia, dtype=float)
+    for i, tensor in enumerate(out):
+        fixed = balanced_inertia(tensor)
+        if fixed is not None:
+            warnings.warn(f"inertia of {names[i]}: principal moments {_fmt(np.linalg.eigvalsh(tensor))} raised to "
+                          f"{_fmt(np.linalg.eigvalsh(fixed))} kg m^2 (balance_inertia: the smallest moment raised "
+                          "just enough for the triangle inequality)", InertiaBalancedWarning, stacklevel=3)
+            out[i] = fixed
+    return out
 
 
 def _fmt(values: FloatArray) -> str:
@@ -76,16 +116,20 @@ class LinkInertials:
     estimated: bool = False
 
     @classmethod
-    def from_arrays(cls, mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, estimated: bool = False) -> "LinkInertials":
+    def from_arrays(cls, mass: ArrayLike, com: ArrayLike, inertia: ArrayLike, estimated: bool = False, *,
+                    balance_inertia: bool = False) -> "LinkInertials":
         """Validated inertials from arrays (SI).  ValueError naming the argument, the link
         and the value for a wrong shape, a non-finite or negative mass, or a tensor that
-        is not symmetric or not a rigid body's inertia."""
+        is not symmetric or not a rigid body's inertia.  With ``balance_inertia`` a tensor
+        that only violates the triangle inequality (published tables such as the PUMA 560's
+        of Armstrong et al. 1986) has its smallest principal moment raised just enough
+        (:func:`balanced_inertia`), reported by an InertiaBalancedWarning per link."""
         m = np.asarray(mass, dtype=float)
         if m.ndim != 1 or not np.isfinite(m).all():
             raise ValueError(f"mass must be a finite (n,) array, got {mass!r}")
         n = m.shape[0]
         c = np.asarray(com, dtype=float)
-        inertia_arr = np.asarray(inertia, dtype=float)
+        inertia_arr = np.array(inertia, dtype=float)  # a copy: balancing changes it
         if c.shape != (n, 3) or not np.isfinite(c).all():
             raise ValueError(f"com must be a finite ({n}, 3) array, got shape {c.shape}")
         if inertia_arr.shape != (n, 3, 3) or not np.isfinite(inertia_arr).all():
@@ -95,9 +139,12 @@ class LinkInertials:
                 raise ValueError(f"mass of link {i + 1} is negative: {m[i]!r}")
             if not np.allclose(inertia_arr[i], inertia_arr[i].T, rtol=0.0, atol=1e-12 * max(1.0, np.abs(inertia_arr[i]).max())):
                 raise ValueError(f"inertia of link {i + 1} is not symmetric:\n{inertia_arr[i]}")
+            if balance_inertia:
+                inertia_arr[i] = balance_link_inertias(inertia_arr[i:i + 1], [f"link {i + 1}"])[0]
             problem = inertia_problem(inertia_arr[i])
             if problem:
-                raise ValueError(f"inertia of link {i + 1} {problem}")
+                hint = "" if balance_inertia else BALANCE_HINT
+                raise ValueError(f"inertia of link {i + 1} {problem}{hint if 'triangle' in problem else ''}")
         return cls(frozen(m, (n,)), frozen(c, (n, 3)), frozen(inertia_arr, (n, 3, 3)), bool(estimated))
 
 

@@ -23,3 +23,16 @@ def clip_repr(value: Any, limit: int = MESSAGE_VALUE_CHARS) -> str:
     except ValueError:
         return f"an integer of about {int(value.bit_length() * 0.30103)} digits"
     return clip(text, limit)
+
+
+#: Characters of a file path kept in an error message (its start and its end).
+MESSAGE_PATH_CHARS = 160
+
+
+def clip_middle(text: str, limit: int = MESSAGE_PATH_CHARS) -> str:
+    """``text`` itself if at most ``limit`` characters, else its start and end around
+    ``...`` (``limit`` characters in all), so a long path keeps its file name."""
+    if len(text) <= limit:
+        return text
+    head = limit // 4
+    return f"{text[:head]}...{text[len(text) - (limit - head - 3):]}"

@@ -321,3 +321,13 @@ def _rigid(name: str, tf: Any) -> HomogeneousTransform:
     if not isinstance(tf, HomogeneousTransform) or not is_rigid_transform(tf.mat):
         raise ValueError(f"{name} must be a rigid HomogeneousTransform, got {clip_repr(tf)}")
     return tf
+
+
+def require_robot(robot: Any, what: str = "robot") -> RobotParams:
+    """``robot`` itself if it is a :class:`RobotParams`; TypeError naming ``what`` otherwise,
+    saying how to get one (a robot's name is loaded by ``rs.load_robot``, which this
+    layer cannot call)."""
+    if not isinstance(robot, RobotParams):
+        hint = f" (load it first: rs.load_robot({clip_repr(robot)}))" if isinstance(robot, str) else ""
+        raise TypeError(f"{what} must be a RobotParams{hint}, got {type(robot).__name__} {clip_repr(robot)}")
+    return robot

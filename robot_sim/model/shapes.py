@@ -18,6 +18,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Callable
 from typing import Any, Optional, Union
 
 import numpy as np
@@ -255,6 +256,12 @@ class Mesh(_ShapeBase):
         """The mesh file's path, or None for a mesh given as arrays."""
         return self.source if isinstance(self.source, str) else None
 
+    @property
+    def data(self) -> tuple[FloatArray, NDArray[np.int64]]:
+        """The unscaled vertices (V, 3) [m] and faces (F, 3), read-only: the same arrays
+        for every shape made from one read of a file (so users may share work on them)."""
+        return self._arrays()
+
     def _arrays(self) -> tuple[FloatArray, NDArray[np.int64]]:
         if isinstance(self.source, tuple):
             return self.source
@@ -281,10 +288,17 @@ class Mesh(_ShapeBase):
         return out
 
 
+def _owned(values: Any, dtype: Any) -> np.ndarray:
+    """``values`` as an array this shape may keep: a read-only array is shared (a mesh
+    file read once serves every shape made of it), anything else copied."""
+    arr = np.asarray(values, dtype=dtype)
+    return arr if not arr.flags.writeable else np.array(arr)
+
+
 def _mesh_arrays(vertices: Any, faces: Any, what: str) -> tuple[FloatArray, NDArray[np.int64]]:
     try:
-        v = np.array(vertices, dtype=float)
-        f = np.array(faces)
+        v = _owned(vertices, float)
+        f = _owned(faces, None)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{what}: vertices must be (V, 3) numbers and faces (F, 3) integers") from exc
     if v.ndim != 2 or v.shape[1] != 3 or len(v) < 1 or not np.all(np.isfinite(v)):
@@ -295,21 +309,21 @@ def _mesh_arrays(vertices: Any, faces: Any, what: str) -> tuple[FloatArray, NDAr
         raise ValueError(f"{what}: faces must be an (F, 3) integer array, got shape {f.shape} of {f.dtype}")
     if f.size and (f.min() < 0 or f.max() >= len(v)):
         raise ValueError(f"{what}: face indices must lie in 0..{len(v) - 1}, got {f.min()}..{f.max()}")
-    return _readonly(v), _readonly(f.astype(np.int64))
+    return _readonly(v), _readonly(f.astype(np.int64, copy=False))
+
+
+#: The reader of mesh files, ``read(path) -> (vertices (V, 3), faces (F, 3))``:
+#: ``robot_sim.io.meshes`` installs its one reader here when imported (this module
+#: imports nothing of the project).
+MESH_FILE_READER: list[Callable[[Path], tuple[FloatArray, NDArray[np.int64]]]] = []
 
 
 def _load_mesh_file(path: str) -> tuple[FloatArray, NDArray[np.int64]]:
-    try:
-        import trimesh  # optional: only needed for meshes given as files
-    except ImportError as exc:
-        raise ValueError(f"Mesh {path!r}: reading mesh files needs trimesh (pip install trimesh)") from exc
-    if not Path(path).is_file():
-        raise ValueError(f"Mesh {path!r}: no such file")
-    try:
-        loaded = trimesh.load(path, force="mesh")
-    except Exception as exc:  # trimesh raises many types for unreadable files
-        raise ValueError(f"Mesh {path!r}: could not be read as a mesh: {exc}") from exc
-    return _mesh_arrays(loaded.vertices, loaded.faces, f"Mesh {path!r}")
+    if not MESH_FILE_READER:
+        raise ValueError(f"Mesh {path[:80]!r}: mesh files are read by robot_sim.io.meshes; "
+                         "use rs.Mesh or import robot_sim.io.meshes first")
+    vertices, faces = MESH_FILE_READER[0](Path(path))
+    return _mesh_arrays(vertices, faces, f"Mesh {path[:80]!r}")
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,6 +30,7 @@ from functools import lru_cache
 import numpy as np
 
 from robot_sim.collision import Box, CollisionChecker
+from robot_sim.collision.distance import shape_distance
 from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik
 from robot_sim.model.params import RobotParams
 from robot_sim.planning.carrying import CheckerGroup, held_object
@@ -49,6 +50,8 @@ PLAN_TIME = 2.0
 #: Quintic straight lines peak at 15/8 of their mean speed; shortest straight move [s].
 QUINTIC_PEAK = 15.0 / 8.0
 MIN_LINE_DURATION = 0.5
+#: The object may sink this far into an obstacle at its start and place poses [m].
+OVERLAP_TOL = 1e-6
 #: Gripper opening beyond the object's width on each side [m].
 GRIPPER_CLEARANCE = 0.015
 #: Default task: object (box) size [m], and where candidates are tried, as fractions of the
@@ -162,6 +165,16 @@ def _raised(pose: FloatArray, height: float) -> FloatArray:
     return out
 
 
+def _obstacle_overlapping(spec: TaskSpec, pose: FloatArray) -> str | None:
+    """The name of the first obstacle (besides the table it rests on) that the object,
+    posed at ``pose``, overlaps by more than OVERLAP_TOL, or None."""
+    body = spec.object_shape_at(pose)
+    for name, shape in spec.world(table=False).obstacles:
+        if shape_distance(body, shape).distance < -OVERLAP_TOL:
+            return name
+    return None
+
+
 def _where(pose: FloatArray) -> str:
     rpy = np.degrees(rpy_from_rot(pose[:3, :3]))
     return (f"tool at xyz [{', '.join(f'{v:.3f}' for v in pose[:3, 3])}] m, "
@@ -230,6 +243,11 @@ def plan_pick(robot: RobotParams, spec: TaskSpec, q_start: FloatArray | None = N
     p = _Planner(robot, spec, seed)
     if p.free.in_collision(q0):
         raise p.fail("pre-grasp", f"the start configuration is in collision ({p.free.distance(q0).pair})")
+    for phase, pose, what in (("pre-grasp", spec.object_pose, "object"), ("place", spec.place, "place pose")):
+        inside = _obstacle_overlapping(spec, pose)
+        if inside is not None:
+            raise p.fail(phase, f"the {what} at xyz [{', '.join(f'{v:.3f}' for v in pose[:3, 3])}] m is inside "
+                                f"obstacle '{inside}': the object would overlap it")
     grasp_tool = spec.object_pose @ spec.grasp
     place_tool = spec.place @ spec.grasp
     pre_grasp = _raised(grasp_tool, spec.approach)

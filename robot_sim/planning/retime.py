@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.dynamics import gravity_torque, inverse_dynamics
+from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.planning.cartesian import qd_limits, qdd_limits
 from robot_sim.planning.profiles import check_in_limits, positive_vector
@@ -36,6 +37,8 @@ FloatArray = NDArray[np.float64]
 #: First grid of the reachability analysis: about this step along the path [rad or m],
 #: between MIN_GRID and MAX_GRID intervals.
 GRID_STEP = 0.002
+#: Shortest sample spacing of a retimed trajectory [s] (1 MHz).
+MIN_DT = 1e-6
 MIN_GRID = 100
 MAX_GRID = 3000
 #: The samples meet the limits to this relative tolerance.
@@ -223,8 +226,10 @@ def retime(robot: RobotParams, path: ArrayLike, *, v_max: ArrayLike | None = Non
     (:class:`JointSpline`), cut and brought to rest at repeated waypoints.  Limits are
     (n,) or scalars; None takes :func:`robot_sim.planning.cartesian.qd_limits` and
     :func:`robot_sim.planning.cartesian.qdd_limits`.
-    Sampled at most ``dt`` s apart, the last sample at the end.  ValueError for bad input
-    (shape, NaN, waypoints outside the joint limits, non-positive limits or dt) or a path
+    Sampled at most ``dt`` s apart (at least MIN_DT, and at most MAX_SAMPLES samples:
+    checked before they are allocated), the last sample at the end.  ValueError for bad
+    input (shape, a single waypoint, NaN, waypoints outside the joint limits, non-positive
+    limits or dt) or a path
     no time law can follow (:class:`InfeasiblePath`: e.g. gravity alone beyond an effort
     limit), naming the grid point or sample, the time and the joint where it can.
     """
@@ -232,13 +237,15 @@ def retime(robot: RobotParams, path: ArrayLike, *, v_max: ArrayLike | None = Non
     P = np.asarray(path, dtype=float)
     if P.ndim != 2 or P.shape[1] != n or P.shape[0] == 0:
         raise ValueError(f"path must be (K, {n}) joint waypoints for {robot.name}, got shape {P.shape}")
+    if P.shape[0] == 1:
+        raise ValueError("path holds one waypoint: retiming needs at least 2 (to stay at q, use hold(q, duration))")
     JointSpline.through(P)  # NaN and shape errors, named
     check_in_limits(robot, P, "path")
     vmax = positive_vector("v_max", qd_limits(robot) if v_max is None else v_max, n)
     amax = positive_vector("a_max", qdd_limits(robot) if a_max is None else a_max, n)
     step = float(dt)
-    if not (np.isfinite(step) and step > 0.0):
-        raise ValueError(f"dt must be a positive number of seconds, got {dt!r}")
+    if not (np.isfinite(step) and step >= MIN_DT):
+        raise ValueError(f"dt must be a number of seconds >= {MIN_DT:g}, got {clip_repr(dt)}")
     tmax = _effort_limits(robot) if effort else np.full(n, np.inf)
     dyn = robot if effort and np.isfinite(tmax).any() else None
     traj: Trajectory | None = None

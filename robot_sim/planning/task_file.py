@@ -37,6 +37,7 @@ SI units inside; no Qt, no OpenGL.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass, field
@@ -48,12 +49,12 @@ from numpy.typing import NDArray
 
 from robot_sim.model.arrays import frozen
 from robot_sim.io import robot_file
-from robot_sim.io.checker import FieldChecker
+from robot_sim.io.checker import LENGTH_BOUND, Bound, FieldChecker
 from robot_sim.model.messages import clip_repr
 from robot_sim.io.robot_file import UNITS
 from robot_sim.io.world_file import WorldDefinitionError, parse_world
-from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Shape, Sphere
-from robot_sim.model.world import World
+from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Shape, Sphere
+from robot_sim.model.world import FLOOR_NAME, World
 from robot_sim.transforms import HomogeneousTransform, rot_x
 
 FloatArray = NDArray[np.float64]
@@ -66,6 +67,10 @@ TABLE_KEYS = {"xyz", "size"}
 OBJECT_KEYS = {"shape", "size", "xyz", "rpy"}
 POSE_KEYS = {"xyz", "rpy"}
 MOTION_DEFAULTS = {"approach": 0.10, "lift": 0.15, "speed": 0.15, "dwell": 0.5}
+#: Accepted range of each [motion] value (smallest, largest, unit): the motion is sampled
+#: at 1 kHz, so these bound its length before anything is planned.
+MOTION_BOUNDS = {"approach": (0.0, 10.0, "m"), "lift": (0.0, 10.0, "m"), "speed": (0.001, 10.0, "m/s"),
+                 "dwell": (0.0, 60.0, "s")}
 #: Length of the simulated two-finger gripper's fingers with the default grasp [m]: its
 #: palm is at the tool frame and the fingertips this far ahead along the tool's z axis,
 #: at the object's centre (:meth:`TaskSpec.finger_length`; the arm's own links end at the
@@ -163,21 +168,24 @@ class _Checker(FieldChecker):
         return table
 
     def positive(self, value: Any, where: str) -> float:
-        number = self.number(value, where)
+        number = self.number(value, where, LENGTH_BOUND)
         if number <= 0.0:
             raise self.fail(where, f"expected a positive number, got {clip_repr(value)}")
         return number
 
-    def vector(self, value: Any, length: int, where: str, positive: bool = False) -> list[float]:  # type: ignore[override]
+    def vector(self, value: Any, length: int, where: str, positive: bool = False,  # type: ignore[override]
+               bound: Bound = LENGTH_BOUND) -> list[float]:
         if not isinstance(value, list) or len(value) != length:
             kind = "positive numbers" if positive else "numbers"
             raise self.fail(where, f"expected a list of {length} {kind}, got {clip_repr(value)}")
-        check = self.positive if positive else self.number
-        return [check(v, f"{where}[{i}]") for i, v in enumerate(value)]
+        if positive:
+            return [self.positive(v, f"{where}[{i}]") for i, v in enumerate(value)]
+        return [self.number(v, f"{where}[{i}]", bound) for i, v in enumerate(value)]
 
     def pose(self, table: dict[str, Any], where: str, to_rad: float) -> FloatArray:
         xyz = self.vector(table.get("xyz", [0.0, 0.0, 0.0]), 3, f"{where}.xyz")
-        rpy = self.vector(table.get("rpy", [0.0, 0.0, 0.0]), 3, f"{where}.rpy")
+        angle = robot_file.ANGLE_BOUNDS["rad" if to_rad == 1.0 else "deg"]
+        rpy = self.vector(table.get("rpy", [0.0, 0.0, 0.0]), 3, f"{where}.rpy", bound=angle)
         return HomogeneousTransform.from_xyz_rpy(xyz, np.array(rpy) * to_rad).mat
 
 
@@ -194,10 +202,10 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
     check.keys(data, TOP_KEYS, "")
     name = data.get("name", Path(path).stem)
     if not isinstance(name, str) or not name.strip():
-        raise check.fail("name", f"expected a non-empty string, got {name!r}")
+        raise check.fail("name", f"expected a non-empty string, got {clip_repr(name)}")
     units = data.get("units", "deg")
-    if units not in UNITS:
-        raise check.fail("units", f"unknown units {units!r}; accepted: 'deg' or 'rad'")
+    if not isinstance(units, str) or units not in UNITS:
+        raise check.fail("units", f"unknown units {clip_repr(units)}; accepted: 'deg' or 'rad'")
     to_rad = UNITS[units]
 
     table = check.table(data, "table", TABLE_KEYS)
@@ -209,8 +217,8 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
 
     obj = check.table(data, "object", OBJECT_KEYS)
     shape = obj.get("shape")
-    if shape not in SHAPES:
-        raise check.fail("object.shape", f"unknown shape {shape!r}; accepted: 'box' or 'cylinder'")
+    if not isinstance(shape, str) or shape not in SHAPES:
+        raise check.fail("object.shape", f"unknown shape {clip_repr(shape)}; accepted: 'box' or 'cylinder'")
     for key in ("size", "xyz"):
         if key not in obj:
             raise check.fail(f"object.{key}", "missing required field")
@@ -233,10 +241,14 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
     if "motion" in data:
         table_m = data["motion"]
         if not isinstance(table_m, dict):
-            raise check.fail("motion", f"expected a table, got {table_m!r}")
+            raise check.fail("motion", f"expected a table, got {clip_repr(table_m)}")
         check.keys(table_m, set(MOTION_DEFAULTS), "motion")
         for key, value in table_m.items():
-            motion[key] = check.positive(value, f"motion.{key}")
+            low, high, unit = MOTION_BOUNDS[key]
+            motion[key] = check.number(value, f"motion.{key}")
+            if not low < motion[key] <= high:
+                raise check.fail(f"motion.{key}", f"expected more than {low:g} and at most {high:g} {unit}, "
+                                                  f"got {clip_repr(value)}")
     obstacles = ()
     if "obstacles" in data:
         try:
@@ -251,6 +263,19 @@ def parse_task(data: dict[str, Any], path: str | Path) -> TaskSpec:
         name=name, table_top=top, table_size=table_size, object_shape=shape, object_size=size,
         object_pose=object_pose, grasp=grasp, place=place, source=str(path), obstacles=obstacles, **motion,
     )
+
+
+def with_world_obstacles(spec: TaskSpec, world: World) -> TaskSpec:
+    """``spec`` with the obstacles of ``world`` (besides its floor, which every task has)
+    added after its own; TaskDefinitionError for a name the task already uses."""
+    taken = {TABLE_NAME, *(name for name, _ in spec.obstacles)}
+    added = tuple((name, shape) for name, shape in world.obstacles if not isinstance(shape, HalfSpace)
+                  or name != FLOOR_NAME)
+    for name, _ in added:
+        if name in taken:
+            raise TaskDefinitionError(f"{spec.source}: the world's obstacle {clip_repr(name)} has the name of "
+                                      "the task's table or one of its obstacles; name it otherwise")
+    return dataclasses.replace(spec, obstacles=spec.obstacles + added) if added else spec
 
 
 def task_toml(spec: TaskSpec) -> str:

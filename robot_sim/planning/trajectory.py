@@ -17,6 +17,8 @@ FloatArray = NDArray[np.float64]
 
 #: Default sampling rate of every planner [Hz] (``times=None``).
 DEFAULT_RATE = 1000.0
+#: Most samples of one planned motion (16.7 min at DEFAULT_RATE), checked before allocating.
+MAX_SAMPLES = 1_000_000
 #: Column groups of the CSV file, in order; a pose adds its top three rows (T11 .. T34).
 _POSE_COLUMNS = [f"T{r}{c}" for r in range(1, 4) for c in range(1, 5)]
 
@@ -42,8 +44,14 @@ def check_times(times: ArrayLike, what: str = "times") -> FloatArray:
 
 
 def sample_times(duration: float, rate: float = DEFAULT_RATE) -> FloatArray:
-    """Uniform sample times from 0 to ``duration`` inclusive, spaced at most 1/``rate`` s."""
-    steps = max(1, int(np.ceil(duration * rate - 1e-9)))
+    """Uniform sample times from 0 to ``duration`` inclusive, spaced at most 1/``rate`` s.
+
+    ValueError, before anything is allocated, when that takes more than MAX_SAMPLES."""
+    wanted = np.ceil(float(duration) * float(rate) - 1e-9)
+    if not wanted < MAX_SAMPLES:  # also NaN and inf
+        raise ValueError(f"a motion of {float(duration):.6g} s sampled every {1.0 / float(rate):.3g} s needs "
+                         f"{wanted:.3g} samples; at most {MAX_SAMPLES} are accepted")
+    steps = max(1, int(wanted))
     return np.linspace(0.0, duration, steps + 1)
 
 

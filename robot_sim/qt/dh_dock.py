@@ -20,6 +20,7 @@ from PyQt5 import QtCore, QtGui, QtWidgets
 from PyQt5.QtCore import Qt
 
 from robot_sim.qt import settings as qs
+from robot_sim.qt.elided_label import ElidedLabel
 from robot_sim.qt.guard import guarded
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable, variable_column
 from robot_sim.model.params import RobotDefinitionError, RobotParams
@@ -84,8 +85,7 @@ class DHTableDock(QtWidgets.QDockWidget):
         bar = QtWidgets.QHBoxLayout()
         self.open_button = QtWidgets.QPushButton("Open…")
         self.save_button = QtWidgets.QPushButton("Save as…")
-        self.file_label = QtWidgets.QLabel()
-        self.file_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.file_label = ElidedLabel(mode=Qt.ElideMiddle)  # a long path must not widen the window
         for button in (self.open_button, self.save_button):
             button.setFocusPolicy(Qt.NoFocus)
             bar.addWidget(button)
@@ -182,7 +182,6 @@ class DHTableDock(QtWidgets.QDockWidget):
         if path is not None:
             self.watcher.addPath(str(path))
         self.file_label.setText(shown_path(path) if path is not None else "(not saved)")
-        self.file_label.setToolTip(self.file_label.text())
         self.file_changed.emit(path)
 
     # ---- edits ----

@@ -12,7 +12,14 @@ from PyQt5.QtCore import Qt
 
 
 class ElidedLabel(QtWidgets.QLabel):
-    """A QLabel that elides its one line of text to its width (the full text in the tooltip)."""
+    """A QLabel that elides its one line of text to its width (the full text in the
+    tooltip): at the end, or with ``mode=Qt.ElideMiddle`` in the middle (a file path keeps
+    its file name)."""
+
+    def __init__(self, text: str = "", mode: Qt.TextElideMode = Qt.ElideRight) -> None:
+        super().__init__()
+        self.mode = mode
+        self.setText(text)
 
     def setText(self, text: str) -> None:  # noqa: N802 - Qt's name
         super().setText(text)
@@ -22,8 +29,8 @@ class ElidedLabel(QtWidgets.QLabel):
         return QtCore.QSize(0, super().minimumSizeHint().height())
 
     def shown_text(self) -> str:
-        """What fits: the text, or its start and "…"."""
-        return self.fontMetrics().elidedText(self.text(), Qt.ElideRight, self.contentsRect().width())
+        """What fits: the text, or its start (and end) around "…"."""
+        return self.fontMetrics().elidedText(self.text(), self.mode, self.contentsRect().width())
 
     def paintEvent(self, event: QtGui.QPaintEvent) -> None:  # noqa: N802 - Qt's name
         painter = QtGui.QPainter(self)

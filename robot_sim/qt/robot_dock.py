@@ -10,6 +10,7 @@ from robot_sim.io.robot_file import available_robots
 from robot_sim.qt import settings as qs
 from robot_sim.qt.joints import JointPanel
 from robot_sim.qt.motion_panel import MotionPanel
+from robot_sim.qt.robot_chooser import RobotChooser
 
 
 class ColumnScroll(QtWidgets.QScrollArea):
@@ -41,12 +42,7 @@ class RobotDock(QtWidgets.QDockWidget):
         self.setFeatures(QtWidgets.QDockWidget.NoDockWidgetFeatures)
         panel = QtWidgets.QWidget()
         layout = QtWidgets.QVBoxLayout(panel)
-        self.robot_combo = QtWidgets.QComboBox()
-        names = available_robots()
-        self.robot_combo.addItems(names)
-        if robot_arg not in names:
-            self.robot_combo.insertItem(0, robot_arg)
-        self.robot_combo.setCurrentText(robot_arg)
+        self.robot_combo = RobotChooser(available_robots(), robot_arg)  # long paths elided in the middle
         layout.addWidget(self.robot_combo)
         self.motion_panel = MotionPanel()
         layout.addWidget(self.motion_panel)

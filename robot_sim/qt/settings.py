@@ -183,3 +183,6 @@ VIEW_INFO_GRID_FORMAT = "grid {step:g} m"
 VIEW_INFO_MARGIN_PX = 8
 VIEW_INFO_TEXT_RGB = (225, 225, 225)
 VIEW_INFO_TEXT_PX = 12
+
+#: Width of the Robot dock's chooser, in characters: longer robot paths are elided in the middle.
+ROBOT_CHOOSER_CHARS = 28

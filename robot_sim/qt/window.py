@@ -129,7 +129,7 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
         self.robot_combo, self.motion_panel, self.joints = dock.robot_combo, dock.motion_panel, dock.joints
         self.readout, self.frames_list, self.dock_scroll = dock.readout, dock.frames_list, dock.dock_scroll
         self.robot_choice = self.options.robot_arg  # what the chooser shows, kept on Cancel
-        self.robot_combo.currentTextChanged.connect(self.choose_robot)
+        self.robot_combo.chosen.connect(self.choose_robot)
         self.motion_panel.mode_chosen.connect(self.choose_motion)
         self.joints.joint_moved.connect(self.joint_moved)
         self.joints.q_requested.connect(self.set_q)

@@ -40,9 +40,10 @@ class PickControls:
         self.plot_dock.set_time(demo.time)
 
     def start_pick(self) -> None:
-        """Plan the robot's default pick task and show it (a one-line message if it cannot)."""
+        """Plan the robot's default pick task among the world's obstacles and show it (a
+        one-line message if it cannot)."""
         try:
-            plan = plan_for(self.session.robot)
+            plan = plan_for(self.session.robot, None, self.session.world)  # among the --world obstacles
         except ValueError as exc:  # TaskError, TaskDefinitionError
             self.message(str(exc))
             return

@@ -65,9 +65,7 @@ class RobotFiles:
 
     def show_robot_choice(self) -> None:
         """The chooser names the robot shown (without switching)."""
-        self.robot_combo.blockSignals(True)
-        self.robot_combo.setCurrentText(self.robot_choice)
-        self.robot_combo.blockSignals(False)
+        self.robot_combo.show_choice(self.robot_choice)
 
     def confirm_unsaved(self, doing: str) -> bool:
         """True if the shown robot may be dropped for ``doing`` (e.g. "closing"): it has

@@ -37,6 +37,7 @@ from robot_sim.control.controllers import ComputedTorque, Controller, Gains
 from robot_sim.control.factory import make_controller
 from robot_sim.control.reference import is_task, task_from_joints
 from robot_sim.control.task_space import TASK_MODES
+from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.sim import stepper as stepping
 from robot_sim.sim.simulation import DEFAULT_DT, drive_limits, stop_message
@@ -44,6 +45,9 @@ from robot_sim.sim.stepper import INTEGRATORS, StepDiverged, StepResult, Stepper
 from robot_sim.sim.stops import LimitEvent, StepPhysics, StopResolver
 
 FloatArray = NDArray[np.float64]
+#: Most environments of one BatchSimulation (its state, scratch and records grow with it;
+#: sweeps run larger grids in chunks).
+MAX_ENVS = 100_000
 #: ``reference(t)`` → (q_des, qd_des, qdd_des), each (n,) or (n_envs, n), at time t [s];
 #: for a task-space controller also (pose_d, twist_d, accel_d): (4, 4) or (n_envs, 4, 4)
 #: [m], (6,) or (n_envs, 6) [m/s; rad/s] and [m/s²; rad/s²], world frame.
@@ -106,8 +110,8 @@ class BatchSimulation:
         gains: Gains | Sequence[Gains] | None = None,
         reference: BatchReference | None = None,
     ) -> None:
-        if isinstance(n_envs, bool) or not isinstance(n_envs, (int, np.integer)) or n_envs < 1:
-            raise ValueError(f"n_envs must be a positive integer, got {n_envs!r}")
+        if isinstance(n_envs, bool) or not isinstance(n_envs, (int, np.integer)) or not 1 <= n_envs <= MAX_ENVS:
+            raise ValueError(f"n_envs must be an integer 1..{MAX_ENVS}, got {clip_repr(n_envs)}")
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
         if integrator not in INTEGRATORS:

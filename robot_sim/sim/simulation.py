@@ -68,8 +68,10 @@ from numpy.typing import ArrayLike, NDArray
 from robot_sim import dynamics
 from robot_sim.collision.checker import CollisionChecker
 from robot_sim.control.controllers import Controller, Integrated, Passive, StepContext
+from robot_sim.control.factory import make_controller
 from robot_sim.control.reference import Desired, Reference, task_from_joints
 from robot_sim.kinematics import Kinematics
+from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
 from robot_sim.sim import stepper as stepping
@@ -141,6 +143,10 @@ class Simulation:
     ) -> None:
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+        if isinstance(controller, str):  # a mode name, as BatchSimulation takes
+            controller = make_controller(controller, robot)
+        elif controller is not None and not isinstance(controller, Controller):
+            raise TypeError(f"controller must be a Controller or a mode name, got {type(controller).__name__}")
         if not (isinstance(max_lag, (int, float)) and math.isfinite(max_lag) and max_lag >= dt):
             raise ValueError(f"max_lag must be a finite number of seconds >= dt ({dt}), got {max_lag!r}")
         if state is not None and state.robot.n_dofs != robot.n_dofs:
@@ -321,8 +327,8 @@ class Simulation:
     def step(self, n_steps: int = 1) -> int:
         """Run ``n_steps`` fixed steps (fewer if the simulation stops), write the result to
         the RobotState and return the number of steps taken."""
-        if n_steps < 0:
-            raise ValueError(f"n_steps must be >= 0, got {n_steps!r}")
+        if isinstance(n_steps, bool) or not isinstance(n_steps, (int, np.integer)) or n_steps < 0:
+            raise ValueError(f"n_steps must be a whole number >= 0, got {clip_repr(n_steps)}")
         self._follow_state()
         if self.stopped is not None or n_steps == 0:
             return 0

@@ -159,6 +159,8 @@ def _gains(robot: RobotParams, mode: str, run: Mapping[str, FloatArray]) -> Gain
     if mode == "ct" and "kp" in run:
         if run["kp"].ndim != 0:
             raise ValueError("for computed torque kp is one number (the error dynamics' ω²), got one per joint")
+        if not float(run["kp"]) > 0.0:  # checked here: it would be reported as a bandwidth of 0
+            raise ValueError(f"kp must be > 0 for computed torque (the error dynamics' ω² [1/s²]), got {float(run['kp']):g}")
         keys["bandwidth"] = math.sqrt(float(run["kp"])) / (2.0 * math.pi)
     gains = control_gains(robot, **keys, **{
         k: np.broadcast_to(run[k], (robot.n_dofs,)) for k in ("kp", "kd") if k in run and mode != "ct"

@@ -10,17 +10,21 @@ import numpy as np
 
 from robot_sim.viewer import settings as vs
 from robot_sim.graphics.task_scene import TaskScene
-from robot_sim.planning.pick_task import SceneState, TaskPlan, default_plan, plan_pick
+from robot_sim.planning.pick_task import SceneState, TaskPlan, default_plan, default_task, plan_pick
 from robot_sim.model.params import RobotParams
-from robot_sim.planning.task_file import load_task
+from robot_sim.planning.task_file import load_task, with_world_obstacles
+from robot_sim.model.world import World
 
 
-def plan_for(robot: RobotParams, task_path: str | Path | None = None) -> TaskPlan:
-    """The plan of the task file ``task_path``, or of ``robot``'s default task when None.
-    Raises TaskDefinitionError for a bad file and TaskError for an impossible task."""
-    if task_path is None:
+def plan_for(robot: RobotParams, task_path: str | Path | None = None, world: World | None = None) -> TaskPlan:
+    """The plan of the task file ``task_path``, or of ``robot``'s default task when None,
+    among the task's obstacles and ``world``'s (``--world``).  Raises TaskDefinitionError
+    for a bad file and TaskError for an impossible task."""
+    spec = default_task(robot) if task_path is None else load_task(task_path)
+    among = with_world_obstacles(spec, world) if world is not None else spec
+    if task_path is None and among is spec:
         return default_plan(robot)
-    return plan_pick(robot, load_task(task_path))
+    return plan_pick(robot, among)
 
 
 @dataclass

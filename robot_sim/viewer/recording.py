@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from robot_sim.io.staged_folder import staged_folder
 from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
 
@@ -53,11 +54,14 @@ class _Mp4:
 
 def frame_times(duration: float, fps: float) -> list[float]:
     """Times [s] of the frames: k / fps for k = 0 .. round(duration * fps) (at least one).
-    ValueError for a negative or non-finite duration or a non-positive fps."""
+    ValueError for a negative or non-finite duration, a non-positive fps or more than
+    RECORD_MAX_FRAMES frames (checked before any is listed)."""
     if not (math.isfinite(duration) and duration >= 0.0):
         raise ValueError(f"duration must be a finite number of seconds >= 0, got {duration!r}")
     if not (math.isfinite(fps) and fps > 0.0):
         raise ValueError(f"fps must be a positive number, got {fps!r}")
+    if not duration * fps < vs.RECORD_MAX_FRAMES:
+        raise ValueError(f"duration × fps = {duration * fps:.3g} frames; at most {vs.RECORD_MAX_FRAMES} are accepted")
     return [k / fps for k in range(round(duration * fps) + 1)]
 
 
@@ -69,44 +73,44 @@ def record(
     ``out_dir`` as ``RECORD_FRAME_FORMAT`` PNGs (each written atomically) and, when
     imageio-ffmpeg is installed, into ``RECORD_VIDEO_NAME`` at ``fps``; returns the frames'
     paths and the video's (None without the extra).  ``text``: each frame's PNG text
-    chunks (what rendered it).  Higher-numbered frames an earlier,
-    longer recording left in ``out_dir`` are removed once this one is complete.
+    chunks (what rendered it).  Everything is written into a folder beside ``out_dir`` and
+    moved into it when complete (:func:`robot_sim.io.staged_folder.staged_folder`): a
+    failure leaves an earlier recording there as it was, and the frames an earlier, longer
+    recording left are removed only once this one is complete.
 
     A pick demo is shown at its start time plus each frame time (scrubbed, exact); anything
     else (the circle demo, an animation) is advanced by 1/fps between frames.
     """
     times = frame_times(duration, fps)
     start = session.pick.time if session.pick is not None else 0.0
-    paths = []
     go.require_osmesa_platform()
-    video = _Mp4(out_dir / vs.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
-    try:
-        with go.OffscreenRenderer(*size) as renderer:
-            for index, t in enumerate(times):
-                if session.pick is not None:
-                    session.show_pick_at(start + t)
-                elif index:
-                    session.step(1.0 / fps)
-                image = renderer.render(session.camera, session.scene(), session.options)
-                path = out_dir / vs.RECORD_FRAME_FORMAT.format(index=index)
-                go.save_png(path, image, text)
-                paths.append(path)
-                if video is not None:
-                    video.add(image)
-    except BaseException:
+    count = 0
+    with staged_folder(out_dir, _is_output) as stage:  # an earlier recording stays until this one is complete
+        video = _Mp4(stage / vs.RECORD_VIDEO_NAME, size, fps) if imageio_ffmpeg is not None else None
+        try:
+            with go.OffscreenRenderer(*size) as renderer:
+                for index, t in enumerate(times):
+                    if session.pick is not None:
+                        session.show_pick_at(start + t)
+                    elif index:
+                        session.step(1.0 / fps)
+                    image = renderer.render(session.camera, session.scene(), session.options)
+                    go.save_png(stage / vs.RECORD_FRAME_FORMAT.format(index=index), image, text)
+                    count += 1
+                    if video is not None:
+                        video.add(image)
+        except BaseException:
+            if video is not None:
+                video.abort()
+            raise
         if video is not None:
-            video.abort()
-        raise
-    _remove_stale_frames(out_dir, len(paths))
-    return paths, (video.finish() if video is not None else None)
+            video.finish()
+    paths = [out_dir / vs.RECORD_FRAME_FORMAT.format(index=index) for index in range(count)]
+    return paths, (out_dir / vs.RECORD_VIDEO_NAME if video is not None else None)
 
 
-def _remove_stale_frames(out_dir: Path, count: int) -> None:
-    """Delete the frames numbered ``count`` and up that an earlier, longer recording left
-    in ``out_dir`` (only files named exactly like ``RECORD_FRAME_FORMAT``), so the
-    directory's sequence is this recording."""
-    for path in out_dir.iterdir():
-        match = _FRAME_NAME.fullmatch(path.name)
-        if match and int(match.group(1)) >= count and path.is_file():
-            path.unlink()
-
+def _is_output(name: str) -> bool:
+    """Whether ``name`` is a file a recording writes (a frame named exactly like
+    ``RECORD_FRAME_FORMAT``, or the video): an earlier recording's such files that this
+    one does not write are removed, so the folder's sequence is this recording."""
+    return bool(_FRAME_NAME.fullmatch(name)) or name == vs.RECORD_VIDEO_NAME

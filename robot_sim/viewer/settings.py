@@ -41,6 +41,7 @@ PATH_SAMPLE_STEP = 10                      # draw every 10th sample of the 1 kHz
 # --record: offscreen frames written to DIR
 RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
 RECORD_VIDEO_NAME = "recording.mp4"     # beside the frames, when the optional `video` extra is installed
+RECORD_MAX_FRAMES = 100_000             # frames of one recording (--duration × --fps), checked before rendering
 RECORD_VIDEO_QUALITY = 8                # imageio-ffmpeg quality, 0 (worst) .. 10 (best)
 
 # Key commands (robot_sim.viewer.commands): camera and IK target steps per press

@@ -49,7 +49,8 @@ def test_a_still_screenshot_imports_neither_numba_nor_qt(tmp_path: Path) -> None
 def test_a_bad_robot_answers_before_any_gl_qt_or_numba_import() -> None:
     status, modules, stderr = modules_after("--robot", "nonexistent", "--demo", "pick", "--motion", "ct")
     assert status == 2 and modules == []
-    assert stderr.startswith("robot-sim: error: unknown robot 'nonexistent'; available robots: ")
+    assert stderr.startswith("robot-sim: error: unknown robot 'nonexistent': no such file and no shipped robot "
+                             "of that name; accepted: ")
     assert len(stderr.splitlines()) == 1
 
 
@@ -61,7 +62,7 @@ def test_parsing_creates_nothing_and_checks_the_record_folder_first(tmp_path: Pa
     status, modules, stderr = modules_after("--demo", "pick", "--record", str(missing))
     assert status == 2 and "numba" not in modules  # refused before the task is planned
     assert stderr == (f"robot-sim: error: --record: cannot write frames to '{missing}': "
-                      "its parent is not a writable directory\n")
+                      f"its parent folder {missing.parent} does not exist\n")
 
 
 def _trail_hits(image: np.ndarray, pixels: np.ndarray) -> list[bool]:

@@ -368,7 +368,7 @@ def test_bad_options_and_references_are_refused_naming_them() -> None:
         make_controller("impedance", rob, stiffness=-np.eye(6))
     with pytest.raises(ValueError, match="give stiffness or K, not both"):
         make_controller("impedance", rob, stiffness=1.0, K=2.0)
-    with pytest.raises(ValueError, match="the pd controller takes no options, got null_space"):
+    with pytest.raises(ValueError, match="the pd controller takes only bandwidth and damping, got null_space"):
         make_controller("pd", rob, null_space=None)
     with pytest.raises(ValueError, match="gain must be a positive finite number"):
         make_controller("resolved_rate", rob, gain=-1.0)

@@ -243,7 +243,7 @@ BAD_FILES = {
     ),
     "typo at top level": (
         dict(head=HEAD + 'descripton = "x"\n'),
-        ["descripton: unknown key 'descripton'; accepted keys: base, collision, control, convention, description, joints, name, tool, units"],
+        ["descripton: unknown key 'descripton'; accepted keys: balance_inertia, base, collision, control, convention, description, joints, name, tool, units"],
     ),
     "unknown convention": (
         dict(head=HEAD + 'convention = "craig"\n'),
@@ -284,7 +284,7 @@ def test_unknown_robot_name_lists_available_robots():
     with pytest.raises(RobotDefinitionError) as info:
         load_robot("pumma560")
     message = str(info.value)
-    assert message.startswith("unknown robot 'pumma560'; available robots: ")
+    assert message.startswith("unknown robot 'pumma560': no such file and no shipped robot of that name; accepted: ")
     assert message.endswith(", ".join(available_robots()))
 
 

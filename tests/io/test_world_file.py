@@ -87,7 +87,7 @@ def test_mesh_obstacle_relative_to_the_file(tmp_path):
     ('[[obstacles]]\nname = ""\nshape = "sphere"\nradius = 0.1\n', "obstacles[0].name: expected a non-empty name"),
     ('[[obstacles]]\nname = "a"\nshape = "sphere"\nradius = 0.1\nxyz = [0, "x", 0]\n', "obstacles[0].xyz[1]: expected a number"),
     ('[[obstacles]]\nname = "a"\nshape = "sphere"\nradius = 0.1\ncolor = [2, 0, 0, 1]\n', "obstacles[0].color: expected RGBA"),
-    ('[[obstacles]]\nname = "a"\nshape = "mesh"\nmesh = "nope.stl"\n', "obstacles[0].mesh: mesh file 'nope.stl' not found"),
+    ('[[obstacles]]\nname = "a"\nshape = "mesh"\nmesh = "nope.stl"\n', "nope.stl: mesh file not found"),
     ('obstacles = 3\n', "obstacles: expected [[obstacles]] tables"),
     ('[[obstacles\n', "invalid TOML"),
 ])

@@ -108,7 +108,8 @@ def test_files_without_tables_have_none(tmp_path):
         (INERTIAL.replace("[0.001, 0.05, 0.05, 0.0, 0.0, 0.0]", "[0.01, 0.05, 0.07, 0.0, 0.0, 0.0]"),
          "joints[0].inertial.inertia: [0.01, 0.05, 0.07, 0.0, 0.0, 0.0] principal moments [0.01, 0.05, 0.07] "
          "violate the triangle inequality (0.07 > 0.01 + 0.05); accepted: [Ixx, Iyy, Izz, Ixy, Iyz, Ixz] "
-         "(kg m^2) of a positive semi-definite tensor whose principal moments obey the triangle inequality"),
+         "(kg m^2) of a positive semi-definite tensor whose principal moments obey the triangle inequality; "
+         "or set balance_inertia = true"),
         (INERTIAL.replace("mass = 2.0", "mass = nan"), "joints[0].inertial.mass: expected a finite number, got nan"),
         ("[joints.inertial]\n", "joints[0].inertial.mass: missing required field"),
         ("inertial = 3\n", "joints[0].inertial: expected a table with keys com, inertia, mass, got 3"),

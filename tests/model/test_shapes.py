@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+import robot_sim.io.meshes  # noqa: F401  installs the one mesh-file reader Mesh(path) uses
 from robot_sim.model.shapes import Box, Capsule, Cylinder, HalfSpace, Mesh, Sphere
 
 
@@ -131,7 +132,7 @@ def test_mesh_file_read_once_and_kept_by_moved(tmp_path):
 
 def test_mesh_missing_file_error():
     pytest.importorskip("trimesh")
-    with pytest.raises(ValueError, match="no such file"):
+    with pytest.raises(ValueError, match="mesh file not found"):
         Mesh("/nonexistent/part.stl").vertices
 
 

@@ -162,7 +162,12 @@ def test_gravity_beyond_the_effort_limit_is_infeasible():
         retime(weak, path)
 
 
-def test_a_single_configuration_is_a_hold():
+def test_a_repeated_configuration_is_a_hold_and_a_single_waypoint_is_refused():
+    """Issue 31: one waypoint is almost always a caller's mistake (a path cut to its start),
+    so it is refused in one line; a path that stays put ([q, q]) is a hold."""
     arm = robot("ur5")
-    traj = retime(arm, np.zeros((1, 6)))
+    traj = retime(arm, np.zeros((2, 6)))
     assert traj.n_samples == 1 and traj.duration == 0.0
+    with pytest.raises(ValueError) as info:
+        retime(arm, np.zeros((1, 6)))
+    assert str(info.value) == "path holds one waypoint: retiming needs at least 2 (to stay at q, use hold(q, duration))"

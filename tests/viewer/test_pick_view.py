@@ -162,8 +162,8 @@ def test_record_without_the_video_extra_writes_frames_only(tmp_path, monkeypatch
 
 
 def test_a_failed_recording_leaves_no_video(tmp_path, monkeypatch):
-    """A frame that cannot be written stops the recording: the partial MP4 is removed (the
-    frames already written stay, each complete)."""
+    """A frame that cannot be written stops the recording: the partial MP4 and the frames
+    already written are removed with the folder they were staged in (issue 31)."""
     written = []
 
     def save_png(path, image, text=None):
@@ -175,7 +175,7 @@ def test_a_failed_recording_leaves_no_video(tmp_path, monkeypatch):
     monkeypatch.setattr(go, "save_png", save_png)
     with pytest.raises(OSError):
         recording.record(_pick_session(), tmp_path, 0.5, 4.0, (160, 120))
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["frame_00000.png"]
+    assert list(tmp_path.iterdir()) == [] and len(written) == 1
 
 
 def test_recording_again_into_a_directory_leaves_only_its_own_frames(tmp_path, monkeypatch):
