@@ -22,19 +22,21 @@ ALLOWED = {
     "collision": {"model", "io", "kinematics", "dynamics", "jit", "transforms"},
     "control": {"model", "io", "kinematics", "dynamics", "dynamics_compiled", "jit", "collision", "planning", "transforms"},
     "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},
+    "calibration": {"model", "io", "kinematics", "collision", "transforms"},
     "graphics": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},
     "viewer": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
                "transforms"},
     "qt": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
            "transforms"},
-    "app": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
-            "qt", "transforms"},
+    "app": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "calibration", "graphics",
+            "viewer", "qt", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
     "PyQt5": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning",
-              "graphics", "viewer"},
-    "OpenGL": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning"},
+              "calibration", "graphics", "viewer"},
+    "OpenGL": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning",
+               "calibration"},
 }
 
 
