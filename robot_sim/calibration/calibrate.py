@@ -95,8 +95,9 @@ class CalibrationResult:
     reason; ``before`` and ``after``: residuals at every pose of the nominal and the
     calibrated robot; ``holdout``: residuals at the held-out fifth of a fit without them;
     ``condition_number`` of the column-scaled Jacobian and Borm and Menq's
-    ``observability`` index O1 (angle columns times the robot's size), both at the
-    identified parameters; ``table_error``: the largest distance [m] between the tool
+    ``observability`` index O1 (angle columns times the robot's size), both of the
+    identifiable parameters at the generic point next to the nominal one (see
+    :func:`generic`), so they describe the poses, not the fit; ``table_error``: the largest distance [m] between the tool
     positions of ``robot``'s DH table and of the identified model at the measured poses.
     """
 
@@ -259,8 +260,9 @@ def calibrate(robot: RobotParams, data: CalibrationData, *, identify: Sequence[s
     _, J0 = stacked(generic(chain, asked), data, asked)
     kept, lost = dependencies(angle_scaled(J0, chain, asked), tuple(chain.name[k] for k in asked), data.has_rotation)
     columns = asked[kept]
-    lost += [Unidentifiable(chain.name[k], (), f"held: joint {chain.row[k] + 1}'s axis is (nearly) parallel to the "
-                            "next one's, so d slides along both; Hayati's beta is identified instead")
+    lost += [Unidentifiable(chain.name[k], (f"d{chain.row[k] + 2}",),
+                            f"held: the axes of joints {chain.row[k] + 1} and {chain.row[k] + 2} are (nearly) parallel, "
+                            f"so it slides along both as d{chain.row[k] + 2} does; Hayati's beta is identified instead")
              for k in range(chain.size) if chain.held[k] and chain.group[k] in groups]
     everything = np.arange(len(data))
     held_out = np.sort(np.random.default_rng(HOLDOUT_SEED).permutation(len(data))[: len(data) // HOLDOUT_FRACTION])
@@ -270,7 +272,8 @@ def calibrate(robot: RobotParams, data: CalibrationData, *, identify: Sequence[s
     cov = _covariance(J, r)
     std = dict(zip(columns.tolist(), np.sqrt(np.diag(cov))))
     parameters = tuple(ParameterRow(chain.name[k], float(chain.nominal[k]), float(fitted.value[k]),
-                                    float(std.get(k, np.nan))) for k in asked)
+                                    float(std.get(k, np.nan)))
+                       for k in range(chain.size) if chain.group[k] in groups)
     before, after = _residuals(chain, data, everything), _residuals(fitted, data, everything)
     holdout = _residuals(trained, data.subset(held_out), held_out)
     note = (f"Calibrated by robot-sim on {datetime.date.today().isoformat()} from {len(data)} measured "
@@ -282,7 +285,7 @@ def calibrate(robot: RobotParams, data: CalibrationData, *, identify: Sequence[s
     return CalibrationResult(
         robot=calibrated, parameters=parameters, unidentifiable=tuple(lost),
         before=before, after=after, holdout=holdout,
-        condition_number=condition_number(J), observability=observability(angle_scaled(J, chain, columns)),
+        condition_number=condition_number(J0[:, kept]), observability=observability(angle_scaled(J0[:, kept], chain, columns)),
         table_error=float(np.linalg.norm(table_points - model_points, axis=1).max()),
     )
 
