@@ -73,7 +73,7 @@ class CalibrationData:
             raise CalibrationDataError(f"weights: expected shape ({N},), got {w.shape}")
         if not (np.isfinite(w) & (w > 0)).all():
             i = int(np.argmax(~(np.isfinite(w) & (w > 0))))
-            raise CalibrationDataError(f"{self.where(i)}: weights[{i}] must be positive and finite, got {w[i]!r}")
+            raise CalibrationDataError(f"{self.where(i)}: weights[{i}] must be positive and finite, got {float(w[i])!r}")
         self.q: FloatArray = Q
         self.positions: FloatArray = measured[:, :3, 3].copy() if poses is not None else measured
         self.poses: FloatArray | None = measured if poses is not None else None
