@@ -50,7 +50,7 @@ def stacked(chain: Chain, data: CalibrationData, columns: NDArray[np.int64]) -> 
         r = np.concatenate([position, ROTATION_LENGTH * turn], axis=1)
         J[:, 3:] *= ROTATION_LENGTH
     root = np.sqrt(data.weights)
-    return (r * root[:, None]).ravel(), (J * root[:, None, None]).reshape(-1, len(columns))
+    return (r * root[:, None]).ravel(), (J * root[:, None, None]).reshape(r.size, len(columns))
 
 
 def jacobian_rows(chain: Chain, q: FloatArray, columns: NDArray[np.int64], poses: bool) -> FloatArray:
