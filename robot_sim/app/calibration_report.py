@@ -92,5 +92,6 @@ def report_image(res: CalibrationResult) -> NDArray[np.uint8]:
 
 
 def write_report(res: CalibrationResult, path: str | os.PathLike[str], command: str) -> None:
-    """Write :func:`report_image` to ``path`` as a PNG recording ``command``."""
-    save_png(path, report_image(res), {"command": command})
+    """Write :func:`report_image` to ``path`` as a PNG recording ``command`` (text chunk
+    ``Source``, as ``--screenshot`` does)."""
+    save_png(path, report_image(res), {"Software": "robot-sim", "Source": command})
