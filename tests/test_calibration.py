@@ -3,18 +3,16 @@ recovery of perturbed shipped arms from simulated measurements, identifiability,
 DH table of a Hayati fit, and pose choice."""
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
 import robot_sim as rs
 from calibration_cases import ARMS, NOISE, study
-from robot_sim.calibration.calibrate import GROUPS, free_columns
 from robot_sim.calibration.chain import build_chain, parameter_jacobian, walk
 from robot_sim.calibration.exact_dh import to_robot
 from robot_sim.calibration.identifiability import condition_number, observability
 from robot_sim.calibration.measure import rotation_vectors
+from robot_sim.calibration.simulate import measured
 
 REPRESENTATIVE = ["ur5", "panda", "puma560", "stanford", "iiwa14"]
 HELD_OUT_RATIO = 1.2
@@ -179,24 +177,18 @@ def test_hayati_fit_converts_to_an_exact_dh_table_with_large_cancelling_ds():
 def test_calibration_poses_beat_random_poses():
     for name, measurement in [("ur5", "position"), ("panda", "position"), ("puma560", "pose")]:
         robot = rs.load_robot(name)
-        chain = build_chain(robot)
-        columns = free_columns(chain, GROUPS)
         chosen = rs.calibration_poses(robot, 40, measurement=measurement)
         assert chosen.shape == (40, robot.n_dofs)
         assert ((chosen >= robot.q_min) & (chosen <= robot.q_max)).all()
-        data = rs.CalibrationData(chosen, positions=rs.forward_kinematics(robot, chosen)[:, :3, 3])
 
         def measures(q):
-            d = rs.CalibrationData(q, positions=rs.forward_kinematics(robot, q)[:, :3, 3])
-            res = rs.calibrate(robot, d) if measurement == "position" else rs.calibrate(
-                robot, rs.CalibrationData(q, poses=rs.forward_kinematics(robot, q)))
+            res = rs.calibrate(robot, measured(robot, q, np.zeros((len(q), 3)), poses=measurement == "pose"))
             return res.observability, res.condition_number
 
         best = measures(chosen)
         for seed in range(3):
             o1, cond = measures(rs.random_configurations(robot, 40, np.random.default_rng(seed)))
             assert best[0] > o1 and best[1] < cond, (name, seed)
-        del data
 
 
 def test_calibration_poses_avoid_collisions():

@@ -59,10 +59,6 @@ def build_parser(command: str) -> argparse.ArgumentParser:
     return parser
 
 
-def _degrees_or_mm(value: float, angle: bool) -> str:
-    return f"{np.degrees(value):.6f}°" if angle else f"{value * 1e3:.4f} mm"
-
-
 def result_text(res: CalibrationResult) -> str:
     """The parameter table, the unidentifiable list and the residuals, as printed."""
     lines = [f"{'parameter':<15}{'nominal':>16}{'identified':>16}{'change':>14}{'std':>12}"]

@@ -97,8 +97,11 @@ class CalibrationResult:
     ``condition_number`` of the column-scaled Jacobian and Borm and Menq's
     ``observability`` index O1 (angle columns times the robot's size), both of the
     identifiable parameters at the generic point next to the nominal one (see
-    :func:`generic`), so they describe the poses, not the fit; ``table_error``: the largest distance [m] between the tool
-    positions of ``robot``'s DH table and of the identified model at the measured poses.
+    :func:`generic`), so they describe the poses, not the fit; ``table_error``: the largest
+    distance [m] between the tool positions of ``robot``'s DH table and of the identified
+    model at the measured poses; ``rms_before``/``rms_after`` and ``max_before``/``max_after``:
+    the position errors [m] of ``before`` and ``after``, ``rms_rotation_*`` and
+    ``max_rotation_*`` their rotation errors [rad] (None with positions only).
     """
 
     robot: RobotParams
@@ -110,46 +113,14 @@ class CalibrationResult:
     condition_number: float
     observability: float
     table_error: float
-
-    @property
-    def rms_before(self) -> float:
-        """RMS position error [m] of the nominal robot at the measured poses."""
-        return self.before.rms
-
-    @property
-    def rms_after(self) -> float:
-        """RMS position error [m] of the calibrated robot at the measured poses."""
-        return self.after.rms
-
-    @property
-    def max_before(self) -> float:
-        """Largest position error [m] of the nominal robot."""
-        return self.before.max
-
-    @property
-    def max_after(self) -> float:
-        """Largest position error [m] of the calibrated robot."""
-        return self.after.max
-
-    @property
-    def rms_rotation_before(self) -> float | None:
-        """RMS rotation error [rad] of the nominal robot (None with positions only)."""
-        return self.before.rotation_rms
-
-    @property
-    def rms_rotation_after(self) -> float | None:
-        """RMS rotation error [rad] of the calibrated robot (None with positions only)."""
-        return self.after.rotation_rms
-
-    @property
-    def max_rotation_before(self) -> float | None:
-        """Largest rotation error [rad] of the nominal robot (None with positions only)."""
-        return self.before.rotation_max
-
-    @property
-    def max_rotation_after(self) -> float | None:
-        """Largest rotation error [rad] of the calibrated robot (None with positions only)."""
-        return self.after.rotation_max
+    rms_before: float
+    rms_after: float
+    max_before: float
+    max_after: float
+    rms_rotation_before: float | None
+    rms_rotation_after: float | None
+    max_rotation_before: float | None
+    max_rotation_after: float | None
 
     @property
     def n_poses(self) -> int:
@@ -285,6 +256,9 @@ def calibrate(robot: RobotParams, data: CalibrationData, *, identify: Sequence[s
     return CalibrationResult(
         robot=calibrated, parameters=parameters, unidentifiable=tuple(lost),
         before=before, after=after, holdout=holdout,
+        rms_before=before.rms, rms_after=after.rms, max_before=before.max, max_after=after.max,
+        rms_rotation_before=before.rotation_rms, rms_rotation_after=after.rotation_rms,
+        max_rotation_before=before.rotation_max, max_rotation_after=after.rotation_max,
         condition_number=condition_number(J0[:, kept]), observability=observability(angle_scaled(J0[:, kept], chain, columns)),
         table_error=float(np.linalg.norm(table_points - model_points, axis=1).max()),
     )

@@ -87,11 +87,6 @@ class Chain:
         """True for the motions whose value is an angle [rad]."""
         return self.kind == ROTATION
 
-    @property
-    def hayati_rows(self) -> tuple[int, ...]:
-        """Table rows (0-based) whose (a, α) carry a Hayati beta."""
-        return tuple(int(r) for r, f in zip(self.row, self.field) if f == "beta")
-
 
 def hayati_rows(robot: RobotParams) -> list[int]:
     """Rows (0-based) of the table whose (a, α) join two (nearly) parallel joint axes,
@@ -100,11 +95,11 @@ def hayati_rows(robot: RobotParams) -> list[int]:
     return [r for r in rows if abs(np.sin(robot.dh_alpha[r])) < np.sin(HAYATI_ANGLE)]
 
 
-def build_chain(robot: RobotParams, hayati: bool = True) -> Chain:
-    """The motions of ``robot`` (module docstring); Hayati's beta (value 0) on every row of
-    :func:`hayati_rows` when ``hayati``."""
+def build_chain(robot: RobotParams) -> Chain:
+    """The motions of ``robot`` (module docstring), with Hayati's beta (value 0) on every
+    row of :func:`hayati_rows`."""
     n = robot.n_dofs
-    tilted = set(hayati_rows(robot)) if hayati else set()
+    tilted = set(hayati_rows(robot))
     items: list[tuple] = []  # (kind, axis, joint, value, name, group, held, row, field)
 
     def frame(prefix: str, tf: HomogeneousTransform) -> None:
