@@ -3,6 +3,8 @@ recovery of perturbed shipped arms from simulated measurements, identifiability,
 DH table of a Hayati fit, and pose choice."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -238,3 +240,16 @@ def test_robust_fit_shrugs_off_an_outlier():
     truth = rs.forward_kinematics(s.truth, q)[:, :3, 3]
     err = lambda r: np.abs(rs.forward_kinematics(r, q)[:, :3, 3] - truth).max()  # noqa: E731
     assert err(robust.robot) < 0.3 * err(plain.robot)
+
+
+def test_an_instrument_frame_far_from_the_base_is_found():
+    # The tracker stands 2.3 m away, turned by 92°: the fit starts from a rigid registration.
+    from robot_sim.transforms import HomogeneousTransform
+
+    s = study("ur5")
+    moved = dataclasses.replace(s.truth, base_tf=HomogeneousTransform.from_xyz_rpy([2.0, -1.0, 0.5], [0.1, -0.2, 1.6])
+                                @ s.truth.base_tf)
+    exact = rs.calibrate(s.nominal, measured(moved, s.q, np.zeros((len(s.q), 3))))
+    assert exact.rms_before > 1.0 and exact.rms_after < 1e-12
+    q = rs.random_configurations(s.nominal, 100, np.random.default_rng(4))
+    assert np.abs(rs.forward_kinematics(exact.robot, q)[:, :3, 3] - rs.forward_kinematics(moved, q)[:, :3, 3]).max() < 1e-9

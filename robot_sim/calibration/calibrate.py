@@ -29,6 +29,7 @@ from robot_sim.calibration.solver import ROBUST_ROUNDS, huber_weights, least_squ
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
+from robot_sim.transforms import HomogeneousTransform, rpy_from_rot
 
 FloatArray = NDArray[np.float64]
 
@@ -170,12 +171,34 @@ def _residuals(chain: Chain, data: CalibrationData, poses: NDArray[np.int64]) ->
                      None if rotation is None else np.linalg.norm(rotation, axis=1))
 
 
+def registered(chain: Chain, data: CalibrationData, columns: NDArray[np.int64]) -> Chain:
+    """The chain with the base moved by the rigid motion that best maps its tool points onto
+    the measured ones (Kabsch's least-squares rotation; Arun, Huang & Blostein, IEEE PAMI
+    9(5), 1987), where the base's xyz and rpy are among ``columns``: the instrument's
+    frame may be anywhere, and the fit then starts next to it."""
+    base = [chain.name.index(f"base.{key}") for key in ("x", "y", "z", "rx", "ry", "rz")]
+    if not np.isin(base, columns).any():
+        return chain
+    _, points, _, _ = walk(chain, data.q, np.zeros(chain.size, dtype=bool))
+    model_mean, measured_mean = points.mean(axis=0), data.positions.mean(axis=0)
+    U, _, Vt = np.linalg.svd((points - model_mean).T @ (data.positions - measured_mean))
+    flip = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))])
+    R = Vt.T @ flip @ U.T
+    move = HomogeneousTransform.from_rt(R, measured_mean - R @ model_mean)
+    frame = move @ HomogeneousTransform.from_xyz_rpy(chain.value[base[:3]], chain.value[base[3:]])
+    values = chain.value.copy()
+    new = np.concatenate([frame.t(), rpy_from_rot(frame.R())])
+    keep = np.isin(base, columns)
+    values[np.array(base)[keep]] = new[keep]
+    return chain.with_values(values)
+
+
 def _fit(chain: Chain, data: CalibrationData, columns: NDArray[np.int64], robust: bool,
          progress: Callable[[str], None] | None) -> tuple[Chain, FloatArray, FloatArray]:
     """Fitted chain, weighted residuals r and Jacobian J at the solution (Huber-reweighted
-    poses when ``robust``).  The fit starts from the :func:`generic` point: at the nominal
+    poses when ``robust``).  The fit starts from the :func:`generic` point (at the nominal
     values a wrist centred on the tool point, say, turns it about axes through it, and
-    those columns vanish."""
+    those columns vanish) of the :func:`registered` chain."""
     def problem_for(fit_data: CalibrationData) -> Callable[[FloatArray], tuple[FloatArray, FloatArray]]:
         def problem(x: FloatArray) -> tuple[FloatArray, FloatArray]:
             values = chain.value.copy()
@@ -187,7 +210,7 @@ def _fit(chain: Chain, data: CalibrationData, columns: NDArray[np.int64], robust
         if progress is not None:
             progress(f"iteration {iteration}: weighted RMS {np.sqrt(cost / len(data)) * 1e3:.4g} mm")
 
-    x = generic(chain, columns).value[columns]  # off the nominal's special values: no zero columns
+    x = generic(registered(chain, data, columns), columns).value[columns]
     max_step = np.where(chain.is_angle[columns], MAX_STEP_ANGLE, MAX_STEP_LENGTH * chain.robot.size)
     fit_data = data
     for _ in range(ROBUST_ROUNDS if robust else 1):
