@@ -136,8 +136,9 @@ def free_columns(chain: Chain, identify: Sequence[str]) -> NDArray[np.int64]:
 
 
 def minimum_poses(n_parameters: int, rows_per_pose: int) -> int:
-    """Fewest poses whose four fifths give more measured values than ``n_parameters``."""
-    n = 1
+    """Fewest poses (at least five, so one is held out) whose four fifths give more measured
+    values than ``n_parameters``."""
+    n = HOLDOUT_FRACTION
     while (n - n // HOLDOUT_FRACTION) * rows_per_pose <= n_parameters:
         n += 1
     return n
