@@ -49,9 +49,15 @@ def robotkinecal_fit(robot, q_train, p_train, q_test):
 
     with tempfile.TemporaryDirectory() as folder:
         path = os.path.join(folder, "arm.urdf")
-        rs.to_urdf(robot, path)
-        model = rtb.ERobot.URDF(path)
-    ee = model.ee_links[0].name
+        with open(path, "w") as out:
+            out.write(rs.to_urdf(robot, path))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            from roboticstoolbox.models.URDF.URDFRobot import URDF_read
+
+            links, name, _ = URDF_read(path)
+    model = rtb.Robot(links, name=name)
+    ee = "tool0"  # rs.to_urdf's endeffector link
 
     def fit():
         cal = SerialRobotKineCal(model, ee_name=ee)
