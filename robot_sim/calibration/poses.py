@@ -11,7 +11,6 @@ maximises Borm and Menq's O1 for the fixed number of measured values.
 from __future__ import annotations
 
 import operator
-from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,7 +20,7 @@ from robot_sim.calibration.chain import build_chain
 from robot_sim.model.calibration_data import MAX_POSES
 from robot_sim.calibration.identifiability import dependencies
 from robot_sim.calibration.measure import jacobian_rows
-from robot_sim.kinematics import random_configurations
+from robot_sim.kinematics import CollisionQuery, random_configurations
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 
@@ -32,10 +31,6 @@ MEASUREMENTS = ("position", "pose")
 CANDIDATES_PER_POSE = 20
 MIN_CANDIDATES, MAX_CANDIDATES = 1000, 20_000
 MAX_PASSES = 6
-
-
-class CollisionQuery(Protocol):
-    def in_collision(self, q: FloatArray) -> bool | NDArray[np.bool_]: ...
 
 
 def calibration_poses(robot: RobotParams, n: int, *, measurement: str = "position",
