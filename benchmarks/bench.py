@@ -43,6 +43,7 @@ import bench_sim  # noqa: E402
 from bench_collision import bench_collision  # noqa: E402
 from bench_task_space import bench_task_space  # noqa: E402
 from bench_contact import bench_contact  # noqa: E402
+from bench_calibration import bench_calibration  # noqa: E402
 from timing import Table, measure, median_iqr, ms, us  # noqa: E402
 
 ROBOT = "humanoid7"
@@ -245,6 +246,7 @@ def main() -> None:
     bench_collision(table, measure, median_iqr, us)
     bench_task_space(table, us)
     bench_contact(table, measure, median_iqr, us)
+    bench_calibration(table)
     if not args.skip_render:
         bench_render.bench_frames(table)
         bench_render.bench_screenshot(table)

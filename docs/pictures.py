@@ -1,6 +1,6 @@
 """Render every picture of docs/ again with the command written next to it in the docs.
 
-Each ``.venv/bin/robot-sim ... --screenshot docs/NAME.png`` command of README.md or a
+Each ``.venv/bin/robot-sim ... --screenshot docs/NAME.png`` (or ``--report docs/NAME.png``) command of README.md or a
 docs/*.md page (found by tests/doc_blocks.py, the parser the doc tests use) is run from
 the checkout's root, so the PNGs record relative paths only (tests/docs/test_docs_pictures.py
 checks that).  The window picture is made by docs/window_picture.py (it needs a display).
@@ -20,13 +20,24 @@ sys.path.insert(0, str(ROOT / "tests"))
 from doc_blocks import all_commands  # noqa: E402
 
 
+#: Options that name the picture a command writes (``robot-sim calibrate`` draws a report).
+PICTURE_OPTIONS = ("--screenshot", "--report")
+
+
+def picture_target(args: list[str]) -> str | None:
+    """The picture a ``robot-sim`` argument list writes, if any."""
+    option = next((o for o in PICTURE_OPTIONS if o in args), None)
+    return None if option is None else (args[args.index(option) + 1:] or [None])[0]
+
+
 def documented_commands() -> list[list[str]]:
-    """The argument lists of every documented ``--screenshot docs/...`` command, once each, in page order."""
+    """The argument lists of every documented command writing a picture into docs/
+    (``--screenshot docs/...``, ``--report docs/...``), once each, in page order."""
     found: list[list[str]] = []
     for command in all_commands():
         args = command.robot_sim_args() or []
-        target = args[args.index("--screenshot") + 1:][:1] if "--screenshot" in args else []
-        if target and target[0].startswith("docs/") and args not in found:
+        target = picture_target(args)
+        if target and target.startswith("docs/") and args not in found:
             found.append(args)
     return found
 

@@ -69,6 +69,13 @@ _EXPORTS = {
     "to_toml": "robot_sim.io.robot_writer",
     "save_robot": "robot_sim.io.robot_writer",
     "MeshSkippedWarning": "robot_sim.io.meshes",
+    # calibration
+    "CalibrationData": "robot_sim.model.calibration_data",
+    "CalibrationDataError": "robot_sim.model.calibration_data",
+    "load_calibration_data": "robot_sim.io.calibration_csv",
+    "calibrate": "robot_sim.calibration.calibrate",
+    "CalibrationResult": "robot_sim.calibration.calibrate",
+    "calibration_poses": "robot_sim.calibration.poses",
     # planning
     "Trajectory": "robot_sim.planning.trajectory",
     "quintic": "robot_sim.planning.profiles",

@@ -53,7 +53,7 @@ class Command:
     def opens_window(self) -> bool:
         """Whether this is a robot-sim command that opens the window (rather than writing output)."""
         args = self.robot_sim_args()
-        if args is None or args[:1] == ["sweep"]:
+        if args is None or args[:1] in (["sweep"], ["calibrate"], ["calibration-poses"]):
             return False
         return not any(word.split("=")[0] in HEADLESS_OPTIONS for word in args)
 

@@ -25,21 +25,23 @@ ALLOWED = {
     "sim": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control",
             "planning", "transforms"},  # the physics loop
     "planning": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "transforms"},
+    "calibration": {"model", "io", "kernels", "kinematics", "collision", "transforms"},
     "graphics": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
                  "transforms"},
     "viewer": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
                "transforms"},
     "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
            "viewer", "transforms"},
-    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
+            "calibration", "graphics",
             "viewer", "qt", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
     "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
-              "planning", "graphics", "viewer"},
+              "planning", "calibration", "graphics", "viewer"},
     "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
-               "planning"},
+               "planning", "calibration"},
 }
 
 

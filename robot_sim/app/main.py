@@ -37,6 +37,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         from robot_sim.app import sweep_cmd
 
         return sweep_cmd.main(argv[1:])
+    if argv[:1] in (["calibrate"], ["calibration-poses"]):  # robot_sim.app.calibrate_cmd
+        from robot_sim.app import calibrate_cmd
+
+        return calibrate_cmd.main(argv)
     try:
         args = parse_args(argv)
         if args.list_robots:

@@ -25,7 +25,7 @@ import numpy as np
 import tomlkit
 from tomlkit.items import AoT
 
-from robot_sim.io.files import write_atomic
+from robot_sim.io.files import read_regular_file, write_atomic
 from robot_sim.model.inertials import DRIVE_DEFAULTS
 from robot_sim.model.params import (
     CONVENTION_STANDARD,
@@ -35,7 +35,7 @@ from robot_sim.model.params import (
     RobotDefinitionError,
     RobotParams,
 )
-from robot_sim.io.robot_file import ANGLE_BOUNDS, UNITS, parse_robot
+from robot_sim.io.robot_file import ANGLE_BOUNDS, MAX_FILE_BYTES, UNITS, parse_robot
 from robot_sim.io.shape_tables import GEOMETRY_KEYS, sync_shape_tables
 from robot_sim.transforms import HomogeneousTransform, rpy_from_rot
 
@@ -279,14 +279,24 @@ def to_toml(robot: RobotParams, template: str | None = None, directory: str | os
     With ``template`` (the original file's text) only the values that changed are
     rewritten; comments, citations and layout are kept.  Without it, a new file in degrees.
     Mesh paths are relative to ``directory``, the folder the file is written to (absolute
-    when None).
+    when None).  The robot's ``notes`` become comment lines after the file's opening
+    comments (each once).
     """
-    return tomlkit.dumps(robot_document(robot, template, directory))
+    text = tomlkit.dumps(robot_document(robot, template, directory))
+    lines = text.splitlines(keepends=True)
+    new = [f"# {' '.join(note.split())}\n" for note in robot.notes]
+    new = [line for line in new if line not in lines]
+    top = next((k for k, line in enumerate(lines) if not line.startswith("#")), len(lines))
+    return "".join(lines[:top] + new + lines[top:])
 
 
 def save_robot(robot: RobotParams, path: str | os.PathLike[str], template: str | None = None) -> None:
     """Write ``robot`` to ``path`` atomically (:func:`robot_sim.io.files.write_atomic`), style-preserving
-    when ``template`` is given, mesh paths relative to the file's folder.  FileWriteError (an OSError) naming the path and the reason."""
+    with ``template``, by default the text of the TOML file the robot was loaded from (its
+    comments kept), mesh paths relative to the file's folder.  FileWriteError (an OSError)
+    naming the path and the reason."""
+    if template is None and robot.source.endswith(".toml") and Path(robot.source).is_file():
+        template = read_regular_file(robot.source, MAX_FILE_BYTES).decode("utf-8-sig")
     write_atomic(path, to_toml(robot, template, Path(path).parent))
 
 

@@ -67,7 +67,9 @@ class RobotParams:
     Empty tuples where a description has none (``()`` is taken as n empty tuples).
     :func:`~robot_sim.model.convert.to_standard`/``to_modified`` move them with the frames.
     ``collision_allow`` holds pairs of link names (:attr:`link_names`) never checked for
-    collision, from the file's ``[collision] allow`` table.
+    collision, from the file's ``[collision] allow`` table.  ``notes``: one-line remarks on
+    where the values came from (a calibration's date, poses and residuals), which
+    :func:`~robot_sim.io.robot_writer.save_robot` writes as comments; never read from files.
     """
 
     name: str
@@ -93,6 +95,7 @@ class RobotParams:
     base_visuals: tuple[LinkShape, ...] = ()
     base_collisions: tuple[LinkShape, ...] = ()
     collision_allow: tuple[tuple[str, str], ...] = ()
+    notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.convention, str) or self.convention not in CONVENTIONS:

@@ -165,6 +165,10 @@ def parse_robot_sim(args: list[str]) -> None:
         from robot_sim.app import sweep_cmd
 
         parsed = sweep_cmd.build_parser().parse_args(args[1:])
+    elif args[:1] in (["calibrate"], ["calibration-poses"]):
+        from robot_sim.app import calibrate_cmd
+
+        parsed = calibrate_cmd.build_parser(args[0]).parse_args(args[1:])
     else:
         from robot_sim.app import cli
 
