@@ -4,7 +4,7 @@
 
 For each robot (default: the four of docs/trajectories.md) the default pick task is
 planned once (``default_plan``), then run ``--repeats`` times by the simulated controller
-of ``--mode`` (``robot_sim.control.pick_run.simulate_pick``, 1 ms steps).  Prints one row
+of ``--mode`` (``robot_sim.sim.pick_run.simulate_pick``, 1 ms steps).  Prints one row
 per robot: the largest tool tracking error [mm], how far from its place pose the object
 was let go [mm] (both the same in every run: the simulation is deterministic), the
 task's length [s] and the median wall time of a run [s] with its spread.  The figures of
@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from robot_sim.control.pick_run import simulate_pick
+from robot_sim.sim.pick_run import simulate_pick
 from robot_sim.io.robot_file import load_robot
 from robot_sim.planning.pick_task import default_plan
 

@@ -11,7 +11,7 @@ import pytest
 import robot_sim as rs
 import robot_sim.app.sweep_cmd as sweep_cmd
 from robot_sim.app.main import main
-from robot_sim.control.batch import MAX_ENVS
+from robot_sim.sim.batch import MAX_ENVS
 from robot_sim.planning.pick_task import TaskError, default_task, plan_pick
 from robot_sim.viewer.pick_demo import plan_for
 
