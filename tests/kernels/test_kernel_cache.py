@@ -11,9 +11,9 @@ from pathlib import Path
 import numba
 import pytest
 
+from paths import PACKAGE
 from robot_sim.kernels import jit
 
-PACKAGE = Path(__file__).resolve().parent.parent / "robot_sim"
 
 
 @pytest.fixture
