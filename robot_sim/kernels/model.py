@@ -115,6 +115,13 @@ def _subspace(table: FloatArray, modified: bool, j: int) -> tuple[float, ...]:
 
 
 def _build(robot: RobotParams) -> CompiledModel:
+    # Built for kinematics and collision too: a robot of absurd size (inf inertia terms)
+    # warns nowhere here; dynamics, which reads those columns, says what is wrong.
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _table_model(robot)
+
+
+def _table_model(robot: RobotParams) -> CompiledModel:
     n = robot.n_dofs
     P = np.zeros((n, NCOL))
     P[:, REV] = (robot.jtype == JTYPE_REVOLUTE).astype(float)

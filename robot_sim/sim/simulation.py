@@ -413,10 +413,13 @@ class Simulation:
             )
             status = int(step.status[0])
             held = self._any_at_limit or status == stepping.STEP_ON_LIMIT
-            q1, qd1, qdd, stops = self._resolve(q, qd, tau, Integrated(
-                step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy(), command, status,
-                step.reaction[0].copy() if held else None, step.at_limit[0].copy() if held else None,
-            ))
+            if status == stepping.STEP_OK and not held:  # the common step: no stop touched
+                q1, qd1, qdd = step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy()
+            else:
+                q1, qd1, qdd, stops = self._resolve(q, qd, tau, Integrated(
+                    step.q[0].copy(), step.qd[0].copy(), step.qdd[0].copy(), command, status,
+                    step.reaction[0].copy() if held else None, step.at_limit[0].copy() if held else None,
+                ))
         elif self._any_at_limit:
             q1, qd1, qdd, stops = self._through_stops(q, qd, tau, f_tool)
         else:
