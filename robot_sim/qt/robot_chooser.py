@@ -3,11 +3,13 @@ whose long file path is elided in the middle so the dock keeps its width.
 
 A QComboBox sizes itself to its longest item; a robot named by a 300-character path made
 the dock, and the window, wider than the screen (joint boxes, upper limits, the Zero
-button and the status bar went past its edge).  Each item shows at most
-ROBOT_CHOOSER_CHARS characters' width of its name, cut in the middle (the file name stays
-readable), and keeps the whole name as its data and tooltip.
+button and the status bar went past its edge).  The chooser is ROBOT_CHOOSER_CHARS
+characters wide; an item shows a path's file name, cut in the middle where it is longer,
+and keeps the whole name as its data and tooltip.
 """
 from __future__ import annotations
+
+from pathlib import Path
 
 from PyQt5 import QtCore, QtWidgets
 from PyQt5.QtCore import Qt
@@ -30,8 +32,10 @@ class RobotChooser(QtWidgets.QComboBox):
         self.currentIndexChanged.connect(lambda index: self.chosen.emit(self.itemData(index) or ""))
 
     def _shown(self, name: str) -> str:
+        """A path's file name (a shipped robot's name as it is), elided in the middle to the
+        chooser's width."""
         width = self.fontMetrics().horizontalAdvance("x") * qs.ROBOT_CHOOSER_CHARS
-        return self.fontMetrics().elidedText(name, Qt.ElideMiddle, width)
+        return self.fontMetrics().elidedText(Path(name).name or name, Qt.ElideMiddle, width)
 
     def show_choice(self, name: str) -> None:
         """Show ``name`` (added first when it is not an item yet) without emitting ``chosen``."""

@@ -185,4 +185,4 @@ VIEW_INFO_TEXT_RGB = (225, 225, 225)
 VIEW_INFO_TEXT_PX = 12
 
 #: Width of the Robot dock's chooser, in characters: longer robot paths are elided in the middle.
-ROBOT_CHOOSER_CHARS = 28
+ROBOT_CHOOSER_CHARS = 16
