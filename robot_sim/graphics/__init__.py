@@ -37,12 +37,12 @@ from robot_sim.graphics.font import text_size
 from robot_sim.graphics.framing import annotation_points, visible_points
 from robot_sim.graphics.gl import require_osmesa_platform
 from robot_sim.graphics.item import Item
-from robot_sim.graphics.items.annotation import Annotation, dh_annotation
+from robot_sim.graphics.annotation_geometry import Annotation, dh_annotation
 from robot_sim.graphics.items.color_scale import ColorScale, color_scale_layout
 from robot_sim.graphics.label_layout import LabelPlacement, place_labels
 from robot_sim.graphics.workspace import WorkspaceCloud, colormap
-from robot_sim.graphics.items.floor import FloorGrid
-from robot_sim.graphics.items.frames import axis_lengths, frame_labels, frames_and_names
+from robot_sim.graphics.floor_grid import FloorGrid
+from robot_sim.graphics.frame_axes import axis_lengths, frame_labels, frames_and_names
 from robot_sim.graphics.looks import LOOKS, look_for, looks_of
 from robot_sim.graphics.offscreen import OffscreenRenderer, save_png
 from robot_sim.graphics.render import View, item_classes
