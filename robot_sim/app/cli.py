@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from robot_sim.app import web_cmd
 from robot_sim.io import files as fileio
 from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
@@ -159,6 +160,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--damping", metavar="ZETA", help="controller damping ratio")
     parser.add_argument("--kp", metavar="k1,k2,...", help="PD stiffness per joint (N·m/rad or N/m)")
     parser.add_argument("--kd", metavar="k1,k2,...", help="PD damping per joint (N·m·s/rad or N·s/m)")
+    web_cmd.add_arguments(parser)
     return parser
 
 

@@ -15,6 +15,7 @@ from typing import Sequence
 # small matrix products of each frame only compete with it.  Set before NumPy loads.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+from robot_sim.app import web_cmd
 from robot_sim.app.cli import (
     PROG,
     CliError,
@@ -64,6 +65,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             frames, video = write_recording(config)
             print(f"wrote {len(frames)} frames to {config.record}" + (f" and {video}" if video else ""))
             return 0
+        if web_cmd.wanted(args):
+            return web_cmd.run(args, config, session_from_config, CliError)
         if config.screenshot is not None:
             write_screenshot(config)
             print(f"wrote {config.screenshot}")

@@ -68,6 +68,7 @@ class PartsLayer:
         self.scene = scene
         self.prefix = prefix
         self._slots: list[tuple[Any, str, int, bytes, bytes, bool]] = []  # handle, mesh, count, colours, opacities, wire
+        self._poses: list[bytes] = []  # per slot: the poses last sent
 
     def update(self, parts: Sequence[tuple[str, ArrayLike, ArrayLike]], *, opacity: float = 1.0,
                wireframe: bool = False, visible: bool = True,
@@ -88,7 +89,10 @@ class PartsLayer:
                 if old_mesh == mesh and old_count == count == 0:
                     continue
                 if old_mesh == mesh and old_count == count:
-                    handle.batched_wxyzs, handle.batched_positions, handle.batched_scales = wxyz, pos, scale
+                    poses = wxyz.tobytes() + pos.tobytes() + scale.tobytes()
+                    if self._poses[index] != poses:  # nothing is sent for copies that did not move
+                        handle.batched_wxyzs, handle.batched_positions, handle.batched_scales = wxyz, pos, scale
+                        self._poses[index] = poses
                     if rgb.tobytes() != old_rgb:
                         handle.batched_colors = np.ascontiguousarray(rgb)
                     alpha_key = b"" if alpha is None else alpha.tobytes()
@@ -104,9 +108,11 @@ class PartsLayer:
                 handle.remove()
             self._slots[index:index + 1] = [self._add(index, mesh, count, wxyz, pos, scale, rgb, alpha,
                                                       node_opacity, wireframe, visible)]
+            self._poses[index:index + 1] = [wxyz.tobytes() + pos.tobytes() + scale.tobytes()]
         for handle, *_ in self._slots[len(parts):]:
             handle.remove()
         del self._slots[len(parts):]
+        del self._poses[len(parts):]
 
     def _add(self, index: int, mesh: str, count: int, wxyz: NDArray, pos: NDArray, scale: NDArray, rgb: NDArray,
              alpha: NDArray | None, opacity: float | None, wireframe: bool,
@@ -127,3 +133,4 @@ class PartsLayer:
         for handle, *_ in self._slots:
             handle.remove()
         self._slots.clear()
+        self._poses.clear()

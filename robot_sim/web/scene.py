@@ -107,8 +107,9 @@ class WebScene:
         shown = look in ("mesh", "both")
         alpha = gd.MESH_OVER_DH_ALPHA if look == "both" else float(options.alpha)
         for handle, frame, local in self._meshes:
-            handle.visible = shown
-            if shown:
+            if handle.visible != shown:
+                handle.visible = shown
+            if shown:  # viser sends a property only when its value changes
                 wxyz, pos, scale = instance_poses(frames[frame] @ local)
                 handle.wxyz, handle.position = wxyz[0], pos[0]
                 handle.scale = tuple(float(s) for s in scale[0])
