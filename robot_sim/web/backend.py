@@ -23,7 +23,7 @@ from robot_sim.web.scene import WebScene
 from robot_sim.web.server import DEFAULT_HOST, server_url, start_server, stop_server
 
 #: Seconds capture() waits for the browser's picture.
-CAPTURE_TIMEOUT_S = 20.0
+CAPTURE_TIMEOUT_S = 8.0
 #: Height of the page embedded in a notebook (pixels).
 NOTEBOOK_HEIGHT_PX = 520
 

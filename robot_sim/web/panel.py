@@ -36,7 +36,7 @@ SLIDER_STEP = 0.1
 #: The pick timeline's line: phase, time and length [s].
 PICK_FORMAT = "phase: **{phase}** at {t:.2f} s of {duration:.2f} s"
 #: Size of the IK gizmo as a fraction of the robot's reach.
-GIZMO_SCALE_FRAC = 0.25
+GIZMO_SCALE_FRAC = 0.15
 
 
 def replaced_session(old: ViewerSession, robot: RobotParams) -> ViewerSession:
@@ -325,8 +325,10 @@ class WebPanel:
         self.session.show_pick_at(float(event.target.value))
 
     @guarded
-    def _gizmo_moved(self, handle: Any) -> None:
-        session = self.session
+    def _gizmo_moved(self, event: Any) -> None:
+        """A drag of the gizmo (phases start, update, end): the IK target follows it."""
+        self._dragging = event.phase != "end"
+        session, handle = self.session, event.target
         if session.target_tf is None:
             return
         old = session.target_tf.mat
@@ -375,8 +377,6 @@ class WebPanel:
             self._gizmo = self.backend.server.scene.add_transform_controls(
                 "/target_gizmo", scale=GIZMO_SCALE_FRAC * robot_reach(self.session.robot), depth_test=False,
                 wxyz=wxyz, position=tuple(position))
-            self._gizmo.on_update(lambda event: self._gizmo_moved(event.target))
-            self._gizmo.on_drag_start(lambda event: setattr(self, "_dragging", True))
-            self._gizmo.on_drag_end(lambda event: setattr(self, "_dragging", False))
+            self._gizmo.on_update(self._gizmo_moved)
         elif not self._dragging:
             self._gizmo.wxyz, self._gizmo.position = wxyz, tuple(position)

@@ -89,8 +89,7 @@ def start_server(host: str = DEFAULT_HOST, port: int | None = None, *, label: st
     if port and bound != port:  # someone took the port between the check and the bind
         stop_server(server)
         raise WebServerError(f"port: {port} on {host[:80]} is in use; choose another with --port")
-    server.gui.configure_theme(dark_mode=dark, show_logo=False, show_share_button=False,
-                               control_layout="fixed", control_width="medium")
+    server.gui.configure_theme(dark_mode=dark, show_logo=False, show_share_button=False, control_width="medium")
     line = exposure_warning(host, bound)
     if line is not None and warn is not None:
         print(line, file=warn)
