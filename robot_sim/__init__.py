@@ -92,6 +92,9 @@ _EXPORTS = {
     "shape_distance": "robot_sim.collision.distance",
     "ContactModel": "robot_sim.collision.contact",
     "ContactForce": "robot_sim.collision.contact",
+    # viewing
+    "Visualizer": "robot_sim.viewer.visualizer",
+    "show": "robot_sim.viewer.visualizer",
 }
 
 __all__ = sorted(_EXPORTS)

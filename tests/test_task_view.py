@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import robot_sim.viewer.session as session_module
+import robot_sim.viewer.drivers.circle as circle_module
 from kin_helpers import robot
 from robot_sim.control.pick_run import simulate_pick
 from robot_sim.io.robot_file import load_robot
@@ -47,7 +48,7 @@ def test_the_circle_demo_under_osc_is_a_cartesian_reference(monkeypatch: pytest.
     speed, so the arm at rest lags by at most 5 mm at first (the closed form's peak,
     v/(ω e) = 4.6 mm); after 1 s the tool is on the circle to 1e-5 m (computed torque
     through diff-IK set points stays about 3 mm off)."""
-    monkeypatch.setattr(session_module, "diff_ik_velocity", _refuse)
+    monkeypatch.setattr(circle_module, "diff_ik_velocity", _refuse)
     session = ViewerSession(load_robot("humanoid7"))
     session.set_motion("osc")
     session.toggle_demo()

@@ -292,7 +292,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     start = planar.session.kin.endeff_tf.t().copy()
     for deg in range(10, 71, 2):
         slider.setValue(deg * qs.SLIDER_TICKS_PER_DEG)
-    points = planar.trail.points()
+    points = planar.session.trail.points()
     assert len(points) >= 25
     np.testing.assert_allclose(points[0], start)
     width, height = planar.view.pixel_size()
@@ -305,7 +305,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     window = image[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
     press(app, Qt.Key_B)
-    assert planar.trail is None
+    assert planar.session.trail is None
     window = grab(planar)[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert not np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
 

@@ -36,6 +36,7 @@ from robot_sim.viewer.pick_demo import plan_for
 from robot_sim.control.controllers import PHYSICAL_MODES
 from robot_sim.control.pick_run import simulate_pick
 from robot_sim.planning.pick_task import TaskPlan
+from robot_sim.viewer.builder import PickShow, SessionSpec, build_session
 from robot_sim.viewer.session import ViewerSession, compute_workspace, display_range, display_scale
 
 if TYPE_CHECKING:
@@ -462,31 +463,17 @@ def robot_actions(args: argparse.Namespace, robot: RobotParams) -> bool:
 def session_from_config(config: Config) -> ViewerSession:
     """A ViewerSession with the command line's q, motion (simulated for --duration),
     frames, wireframe and annotated joint applied, framed for all of it."""
-    session = ViewerSession(config.robot, aspect=config.size[0] / config.size[1], gain_overrides=config.gains,
-                            world=config.world)
-    session.options.show_collision = config.collision
-    if config.q is not None:
-        session.set_q(config.q)
-    if config.motion is not None and config.pick_plan is None:  # a pick run is replayed
-        try:
-            session.set_motion(config.motion)
-            session.motion.simulate(config.simulate)
-        except ValueError as exc:  # e.g. dynamics refusing the robot's data
-            raise CliError(f"--motion {config.motion}: {exc}") from None
-        session.update_kinematics()
-        if session.motion.sim.stopped:
-            raise CliError(f"--motion {config.motion}: {session.motion.sim.stopped}")
-    if config.frames is not None:
-        session.options.show_only_frames(config.frames)
-    if config.wireframe:
-        session.options.toggle_wireframe()
-    session.options.theme, session.options.look = config.theme, config.look
-    if config.pick_plan is not None:
-        session.start_pick(config.pick_plan, config.time, config.pick_effort,
-                           config.motion if config.pick_effort is not None else "kinematic")
-    session.options.annotate_joint = config.annotate
-    session.fit_camera(on_annotation=config.annotate is not None)
-    return session
+    pick = None if config.pick_plan is None else PickShow(
+        config.pick_plan, config.time, config.pick_effort,
+        config.motion if config.pick_effort is not None else "kinematic")
+    spec = SessionSpec(config.robot, size=config.size, q=config.q, theme=config.theme, look=config.look,
+                       world=config.world, gains=config.gains, motion=config.motion, simulate=config.simulate,
+                       frames=config.frames, wireframe=config.wireframe, collision=config.collision,
+                       annotate=config.annotate, pick=pick, demo="circle" if config.demo == "circle" else None)
+    try:
+        return build_session(spec)
+    except ValueError as exc:  # e.g. dynamics refusing the robot's data, a stop in the first seconds
+        raise CliError(f"--motion {config.motion}: {exc}") from None
 
 
 def window_options(config: Config) -> "WindowOptions":
@@ -494,16 +481,13 @@ def window_options(config: Config) -> "WindowOptions":
     from robot_sim.qt.window import WindowOptions
 
     return WindowOptions(robot_arg=config.robot_arg, workspace=config.workspace,
-                         circle_demo=config.demo == "circle", message=config.pick_report,
-                         gains=dict(config.gains), world=config.world)
+                         message=config.pick_report)
 
 
 def write_recording(config: Config) -> tuple[list[Path], Path | None]:
     """``--record``: the session rendered offscreen to a numbered PNG sequence, and an MP4
     when the optional ``video`` extra is installed (no Qt); returns both paths."""
     session = session_from_config(config)
-    if config.demo == "circle":
-        session.toggle_demo()
     try:
         return recording.record(session, config.record, config.duration, config.fps, config.size,
                                 picture_text(config))

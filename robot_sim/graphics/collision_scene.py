@@ -5,15 +5,18 @@ pair's witness points with the line between them.  World frame, metres."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_sim.collision.distance import DistanceResult
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.placements import spheres
 from robot_sim.graphics.visuals import shape_pieces
 from robot_sim.model.shapes import HalfSpace, Mesh, Shape
+
+if TYPE_CHECKING:  # the checker's module loads numba; drawing needs only its fields
+    from robot_sim.collision.distance import DistanceResult
 
 FloatArray = NDArray[np.float64]
 RGBA = tuple[float, float, float, float]

@@ -3,6 +3,10 @@ overlays and plots.  Key names are Qt key names without the "Key_" prefix; modif
 "+"-joined names out of Shift, Ctrl, Alt.  The help overlay is generated from KEY_BINDINGS and
 MOUSE_BINDINGS, and key presses are dispatched by looking up (key, modifiers) in KEY_BINDINGS."""
 
+from robot_sim.viewer.settings import (  # noqa: F401 - the key commands' steps, read by the window's tests
+    KEY_ORBIT_STEP_DEG, KEY_ZOOM_FACTOR, TARGET_STEP_DEG, TARGET_STEP_M, VIEW_PRESETS,
+)
+
 # ---------------------------------------------------------------------------
 # Window (robot_sim/qt/window.py) constants — owned by the simulator/window engineer.
 # Key names are Qt key names without the "Key_" prefix; modifiers are "" or
@@ -100,15 +104,12 @@ STATUS_FPS_IDLE = "idle"
 STATUS_MESSAGE_MS = 5000             # how long transient status messages stay
 FPS_WINDOW_S = 1.0                   # frame rate = paints within the last second
 
-# Camera steps
-KEY_ORBIT_STEP_DEG = 5.0
-KEY_ZOOM_FACTOR = 1.15               # per W / S press
+# Camera steps (the key steps, the target steps and the view presets are the viewer's
+# commands': robot_sim.viewer.settings)
 MOUSE_ORBIT_DEG_PER_PX = 0.4
 WHEEL_ZOOM_FACTOR = 1.1              # per wheel notch (120 eighths of a degree)
 
 # IK target and animation
-TARGET_STEP_M = 0.02                 # per I/K/J/L/U/O press
-TARGET_STEP_DEG = 5.0                # per Shift+I/K/J/L/U/O press
 ANIM_INTERVAL_MS = 16                # animation / demo timer period
 REFINE_AFTER_MS = 150                # the still view is repainted with MSAA this long after the camera's last move
 
@@ -125,16 +126,6 @@ HELP_TEXT_RGB = (235, 235, 235)
 # Screenshots saved with P: into this folder of the working directory (created)
 SCREENSHOT_DIR = "screenshots"
 SCREENSHOT_NAME_FORMAT = "robot-sim-{robot}-{stamp}.png"
-
-# View presets (Ctrl+1..4): camera (azimuth, elevation) in degrees, target and distance kept.
-# front: eye on +x looking back at the base; side: eye on -y (x to the right);
-# top: looking down (x right, y up); iso: eye along (1, 1, 1).
-VIEW_PRESETS = {
-    "front": (0.0, 0.0),
-    "side": (-90.0, 0.0),
-    "top": (-90.0, 90.0),
-    "iso": (45.0, 35.26438968),
-}
 
 # Endeffector readout (window dock): world pose and manipulability
 READOUT_FONT_PT = 8

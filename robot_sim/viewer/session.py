@@ -1,9 +1,11 @@
 """What a viewer shows, without Qt: :class:`ViewerSession` holds one robot's current and
 desired joint state, their kinematics, the camera, the graphics options, the IK target,
-the circle demo and the workspace cloud, and turns them into a ``robot_sim.graphics.Scene``.
+the workspace cloud, the endeffector trail and the one driver that moves the arm
+(robot_sim.viewer.drivers), and turns them into a ``robot_sim.graphics.Scene``.
 
-The Qt window (robot_sim/qt/window.py) and the offscreen screenshot (robot_sim.app.cli.py) both show a session;
-``--screenshot`` renders one through OSMesa without importing Qt at all.
+The Qt window (robot_sim.qt), the command line's ``--screenshot`` and ``--record``
+(robot_sim.app) and :class:`robot_sim.viewer.visualizer.Visualizer` all show a session;
+offscreen ones render it through OSMesa without importing Qt at all.
 
 Units: joint values are radians (revolute) and metres (prismatic) inside; the command
 line ``--q`` and the sliders use degrees for revolute joints and metres for prismatic
@@ -13,31 +15,31 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from robot_sim.graphics import defs as gd
-from robot_sim.viewer import settings as vs
 from robot_sim import graphics as go
-from robot_sim.kinematics import (
-    IKResult,
-    Kinematics,
-    diff_ik_velocity,
-    ik_position_only_required,
-    solve_ik,
-    workspace_points,
-)
 from robot_sim.control.reference import fixed_pose
-from robot_sim.viewer.collision_display import CollisionDisplay
-from robot_sim.viewer.motion import Motion
-from robot_sim.viewer.pick_demo import PickDemo
-from robot_sim.viewer.pick_view import clear_view_azimuth
-from robot_sim.planning.pick_task import TaskPlan
+from robot_sim.graphics import defs as gd
+from robot_sim.kinematics import IKResult, Kinematics, ik_position_only_required, solve_ik, workspace_points
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 from robot_sim.model.state import RobotState
 from robot_sim.model.world import World
 from robot_sim.transforms import HomogeneousTransform, rotation_log
+from robot_sim.viewer import settings as vs
+from robot_sim.viewer.dh_table import carry_joint_values
+from robot_sim.viewer.drivers import Driver, StillDriver
+from robot_sim.viewer.drivers.base import OverDriver
+from robot_sim.viewer.drivers.circle import CircleDriver, DemoCircle
+from robot_sim.viewer.trail import Trail
+
+if TYPE_CHECKING:  # these pull the planner, the checker and the simulation (numba): loaded on use
+    from robot_sim.control.simulation import LimitEvent
+    from robot_sim.planning.pick_task import TaskPlan
+    from robot_sim.viewer.collision_display import CollisionDisplay
+    from robot_sim.viewer.motion import Motion
+    from robot_sim.viewer.pick_demo import PickDemo
 
 
 # --------------------------------------------------------------------------------------
@@ -70,50 +72,17 @@ def wrap_display(robot: RobotParams, q: np.ndarray) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------------------
-# the Qt-free session shown by the window and by --screenshot
+# the Qt-free session shown by the window, the command line and rs.Visualizer
 # --------------------------------------------------------------------------------------
 @dataclass
-class DemoCircle:
-    """Endeffector circle in the horizontal world plane through its start position (m, s)."""
-
-    center: np.ndarray
-    radius: float = vs.DEMO_CIRCLE_RADIUS_M
-    period: float = vs.DEMO_CIRCLE_PERIOD_S
-    time: float = 0.0
-
-    def point_and_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Desired world position (3,) in m and linear velocity (3,) in m/s at ``time``."""
-        return self._motion_at(self.time)[:2]
-
-    def _motion_at(self, time: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position [m], velocity [m/s] and acceleration [m/s²] (3,) each at ``time`` [s]."""
-        omega = 2.0 * math.pi / self.period
-        c, s = math.cos(omega * time), math.sin(omega * time)
-        point = self.center + self.radius * np.array([c, s, 0.0])
-        velocity = self.radius * omega * np.array([-s, c, 0.0])
-        return point, velocity, -self.radius * omega**2 * np.array([c, s, 0.0])
-
-    def task_reference(self, rotation: np.ndarray, start: float) -> Callable[[float], tuple]:
-        """The circle as a task reference of simulated time [s] (at its start at ``start``),
-        the tool held at the world orientation ``rotation`` (3, 3)."""
-        zero, begun = np.zeros(3), self.time
-
-        def at(time: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-            point, velocity, accel = self._motion_at(begun + time - start)
-            pose = np.eye(4)
-            pose[:3, :3], pose[:3, 3] = rotation, point
-            return pose, np.concatenate([velocity, zero]), np.concatenate([accel, zero])
-
-        return at
-
-
-@dataclass
 class ViewerSession:
-    """What a viewer shows, without Qt: one robot's state, kinematics, camera and options.
+    """What a viewer shows, without Qt: one robot's state, kinematics, camera and options,
+    what moves it (:attr:`driver`, one at a time), the endeffector trail and whether the
+    camera follows the endeffector.
 
     ``state.joint_state`` is drawn as the robot, ``state.joint_state_des`` as the ghost.
     The IK target ``target_tf`` is a world pose; moving it solves IK from the desired q and
-    the current q then follows with :meth:`step_animation`.
+    the current q then follows with :meth:`step`.
     """
 
     robot: RobotParams
@@ -121,19 +90,23 @@ class ViewerSession:
     state: RobotState = field(init=False)
     kin: Kinematics = field(init=False)
     ghost: Kinematics = field(init=False)
-    camera: Any = field(init=False)
-    options: Any = field(init=False)
+    camera: go.Camera = field(init=False)
+    options: go.GraphicsOptions = field(init=False)
     target_tf: HomogeneousTransform | None = None
     ik_result: IKResult | None = None
-    workspace: Any = None
-    demo: DemoCircle | None = None
-    pick: PickDemo | None = None
+    workspace: go.WorkspaceCloud | None = None
+    #: What moves the arm (drivers/): still, simulated, circle demo or pick playback.
+    driver: Driver = field(default_factory=StillDriver)
     #: Gain overrides of the physical motion modes (control.control_gains keywords).
     gain_overrides: dict[str, Any] = field(default_factory=dict)
     #: Joint-limit arrivals of the simulation since the window last took them.
-    limit_events: list[Any] = field(default_factory=list)
+    limit_events: list[LimitEvent] = field(default_factory=list)
     #: The obstacles the arm collides with and, simulated, rests on (None: the floor).
     world: World | None = None
+    #: The endeffector's recent path, drawn as a line (None: no trail).
+    trail: Trail | None = None
+    #: Whether the camera's target follows the endeffector.
+    follow: bool = False
     _motion: Motion | None = field(default=None, init=False, repr=False)
     _collision: CollisionDisplay | None = field(default=None, init=False, repr=False)
     #: Whether the joints were set (sliders, boxes, IK, --q): from then on the status bar
@@ -160,9 +133,14 @@ class ViewerSession:
         return self.ik_result is None or self.ik_result.success
 
     def update_kinematics(self) -> None:
-        """Recompute the world frames of the current (robot) and desired (ghost) state."""
+        """Recompute the world frames of the current (robot) and desired (ghost) state;
+        extend the trail and move a following camera's target to the endeffector."""
         self.kin.update(self.state.joint_state)
         self.ghost.update(self.state.joint_state_des)
+        if self.trail is not None:
+            self.trail.add(self.kin.endeff_tf.t())
+        if self.follow:
+            self.camera.target = self.kin.endeff_tf.t().copy()
 
     def fit_camera(self, on_annotation: bool = False) -> None:
         """Reset the camera and frame everything drawn (``robot_sim.graphics.visible_points``):
@@ -176,9 +154,53 @@ class ViewerSession:
         focus = go.annotation_points(self.scene(), self.options) if on_annotation else None
         points = focus if focus is not None else go.visible_points(self.scene(), self.options)
         if self.pick is not None and focus is None:
+            from robot_sim.viewer.pick_view import clear_view_azimuth  # the planner: numba
+
             azimuth = clear_view_azimuth(self.camera, self.pick.plan, points, self.aspect)
             self.camera.set_view(azimuth, self.camera.elevation_deg)
         self.camera.fit(points, self.aspect)
+        if self.follow:
+            self.camera.target = self.kin.endeff_tf.t().copy()
+
+    def with_robot(self, robot: RobotParams, keep_q: bool = True) -> ViewerSession:
+        """A session showing ``robot`` with this one's options, world, gains (those that do
+        not count joints), trail (emptied), follow camera and projection.  With ``keep_q``
+        the joint values (carried over joint by joint, robot_sim.viewer.dh_table), the
+        camera and, for the same number of joints, the frame choice and the annotated joint
+        stay; otherwise the new robot is at home and framed anew."""
+        gains = {k: v for k, v in self.gain_overrides.items() if k in ("bandwidth", "damping")}
+        new = ViewerSession(robot, aspect=self.aspect, gain_overrides=gains, world=self.world, follow=self.follow)
+        for flag in ("wireframe", "alpha", "show_vectors", "show_labels", "show_com", "theme", "look",
+                     "show_collision", "samples", "shadows"):
+            setattr(new.options, flag, getattr(self.options, flag))
+        new.camera.orthographic = self.camera.orthographic
+        if self.trail is not None:
+            new.trail = Trail()
+        if keep_q:
+            new.set_q(carry_joint_values(self.robot, self.state.q(), robot))
+            new.camera = self.camera
+            if robot.n_dofs == self.robot.n_dofs:
+                new.options.show_frames = list(self.options.show_frames)
+                new.options.show_endeff_frame = self.options.show_endeff_frame
+                new.options.annotate_joint = self.options.annotate_joint
+        return new
+
+    # ---- trail and follow camera ----
+    def toggle_trail(self) -> bool:
+        """Start drawing the endeffector's path from here, or stop and forget it; returns
+        whether the trail is on."""
+        self.trail = Trail() if self.trail is None else None
+        if self.trail is not None:
+            self.trail.add(self.kin.endeff_tf.t())
+        return self.trail is not None
+
+    def toggle_follow(self) -> bool:
+        """Keep the camera aimed at the endeffector (its target follows it) or stop;
+        returns whether it follows."""
+        self.follow = not self.follow
+        if self.follow:
+            self.camera.target = self.kin.endeff_tf.t().copy()
+        return self.follow
 
     # ---- motion mode (kinematic or simulated, see motion.py) ----
     @property
@@ -186,13 +208,15 @@ class ViewerSession:
         """The robot's motion modes and simulation, built on first use (dynamics are
         imported and the gains computed only when a physical mode is wanted)."""
         if self._motion is None:
+            from robot_sim.viewer.motion import Motion  # dynamics, collision: numba
+
             self._motion = Motion(self.robot, self.state, self.gain_overrides, self.world)
         return self._motion
 
     @property
     def physical(self) -> bool:
         """True while the arm is simulated (any motion mode but kinematic)."""
-        return self._motion is not None and self._motion.physical
+        return self.driver.physical
 
     @property
     def task_space(self) -> bool:
@@ -201,16 +225,42 @@ class ViewerSession:
         reference."""
         return self.physical and self.motion.task_space
 
+    @property
+    def demo(self) -> DemoCircle | None:
+        """The running circle demo, or None."""
+        return self.driver.circle if isinstance(self.driver, CircleDriver) else None
+
+    @property
+    def pick(self) -> PickDemo | None:
+        """The pick task being shown (played or paused), or None."""
+        return getattr(self.driver, "pick", None)
+
     def set_motion(self, mode: str) -> None:
-        """Switch the motion mode (control.MOTION_MODES); the demo keeps running.  In a
-        task-space mode a shown IK target becomes the tool's desired pose."""
+        """Switch the motion mode (control.MOTION_MODES); a demo keeps running over the new
+        mode.  In a task-space mode a shown IK target becomes the tool's desired pose."""
         self.motion.set_mode(mode)
+        base: Driver = StillDriver()
+        if self.motion.physical:
+            from robot_sim.viewer.drivers.simulated import SimulationDriver
+
+            base = SimulationDriver(self.motion)
+        if isinstance(self.driver, OverDriver):
+            self.driver.inner = base
+        else:
+            self.driver = base
         if self.task_space:
-            if self.demo is not None:
-                self._follow_demo()
+            if isinstance(self.driver, CircleDriver):
+                self.driver.follow(self)
             elif self.target_tf is not None:
                 self.motion.follow(fixed_pose(self.target_tf))
         self.update_kinematics()
+
+    def simulate(self, duration: float) -> None:
+        """Simulate ``duration`` seconds at once in the physical mode set (``--duration``);
+        ValueError in kinematic mode."""
+        if not self.physical:
+            raise ValueError("simulating needs a physical motion mode")
+        self.driver.base.simulate(self, duration)  # type: ignore[attr-defined]
 
     def tracking_error(self) -> tuple[float, float] | None:
         """In a physical mode, how far the tool is from its desired pose: position [m] and
@@ -230,6 +280,8 @@ class ViewerSession:
     def collision(self) -> CollisionDisplay:
         """Collision queries of the robot in its world (the checker is built on first use)."""
         if self._collision is None:
+            from robot_sim.viewer.collision_display import CollisionDisplay  # the checker: numba
+
             self._collision = CollisionDisplay(self.robot, self.world)
         return self._collision
 
@@ -245,31 +297,12 @@ class ViewerSession:
 
     # ---- joints ----
     def set_q(self, q: np.ndarray) -> None:
-        """Set current and desired q (SI) at rest, e.g. from sliders; stops any motion.
-        In a physical mode only the desired q is set: the controller moves the arm.
-
-        A shown IK target snaps to the new endeffector pose.
-        """
-        self.demo = None
+        """Set the joints (SI) by hand, e.g. from sliders: ends the circle demo, pauses the
+        pick task; kinematically current and desired q are set at rest, in a physical mode
+        only the desired q (the controller moves the arm).  A shown IK target snaps to the
+        new endeffector pose."""
         self._posed = True
-        if self.pick is not None:
-            self.pick.playing = False
-        if self.physical:
-            self.motion.follow(None)  # the sliders' joints are the set point again
-            self.state.set_q_des(q)
-            self.state.set_qd_des(np.zeros(self.robot.n_dofs))
-            self.update_kinematics()
-            if self.target_tf is not None:
-                self.target_tf = HomogeneousTransform(self.ghost.endeff_tf.mat.copy())
-                self.ik_result = None
-            return
-        self.state.set_q(q)
-        self.state.set_q_des(q)
-        self.state.set_qd(np.zeros(self.robot.n_dofs))
-        self.update_kinematics()
-        if self.target_tf is not None:
-            self.target_tf = HomogeneousTransform(self.kin.endeff_tf.mat.copy())
-            self.ik_result = None
+        self.driver.set_q(self, q)
 
     def set_joint(self, index: int, value: float) -> None:
         """Set joint ``index`` to ``value`` (rad or m) like :meth:`set_q`."""
@@ -278,25 +311,13 @@ class ViewerSession:
         self.set_q(q)
 
     def moving(self) -> bool:
-        """True while the current q has not reached the desired q, a demo runs, or the
-        arm is simulated (until the simulation stops)."""
-        if self.pick is not None and self.pick.playing:
-            return True
-        if self.physical:
-            return self.motion.sim.stopped is None
-        if self.demo is not None:
-            return True
-        return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > vs.ANIM_ARRIVED_TOL))
+        """True while the driver moves the arm: the current q has not reached the desired
+        q, a demo runs, or the simulation has not stopped."""
+        return self.driver.moving(self)
 
-    def step_animation(self, dt: float) -> None:
-        """Move the current q toward the desired q at bounded joint speed for ``dt`` s."""
-        q, q_des = self.state.q(), self.state.q_des()
-        speed = np.where(self.robot.jtype == JTYPE_PRISMATIC, vs.ANIM_SPEED_PRISMATIC, vs.ANIM_SPEED_REVOLUTE)
-        step = np.clip(q_des - q, -speed * dt, speed * dt)
-        arrived = np.all(np.abs(q_des - q) <= np.maximum(speed * dt, vs.ANIM_ARRIVED_TOL))
-        self.state.set_q(q_des if arrived else q + step)
-        self.state.set_qd(np.zeros_like(q) if arrived else step / dt)
-        self.update_kinematics()
+    def step(self, dt: float) -> None:
+        """Advance whatever moves (the driver) by ``dt`` s of wall-clock time."""
+        self.driver.step(self, dt)
 
     # ---- IK target ----
     def toggle_target(self) -> bool:
@@ -314,7 +335,8 @@ class ViewerSession:
 
     def move_target(self, translation: np.ndarray | None = None, rpy: np.ndarray | None = None) -> bool:
         """Translate the target by ``translation`` (3,) m and rotate it about world axes
-        through its origin by ``rpy`` (3,) rad; then re-solve IK.  Shows a hidden target.
+        through its origin by ``rpy`` (3,) rad; then re-solve IK.  Shows a hidden target
+        and ends the circle demo.
 
         Returns whether the target is reachable; if not, the ghost stays where it was.
         """
@@ -326,7 +348,8 @@ class ViewerSession:
         if rpy is not None:
             mat[:3, :3] = HomogeneousTransform.from_xyz_rpy(np.zeros(3), rpy).R() @ mat[:3, :3]
         self.target_tf = HomogeneousTransform(mat)
-        self.demo = None
+        if isinstance(self.driver, CircleDriver):
+            self.driver = self.driver.inner
         if self.task_space:  # the controller takes the pose itself: no IK
             self.ik_result = None
             self.motion.follow(fixed_pose(mat))
@@ -351,9 +374,10 @@ class ViewerSession:
 
     # ---- circle demo (differential IK) ----
     def toggle_demo(self) -> bool:
-        """Start the circle demo at the current endeffector position, or stop it."""
-        if self.demo is not None:
-            self.demo = None
+        """Start the circle demo at the current endeffector position, or stop it (the arm
+        then rests where it is: a task-space controller holds it there)."""
+        if isinstance(self.driver, CircleDriver):
+            self.driver = self.driver.inner
             if self.task_space:
                 self._hold_here()
             elif self.physical:
@@ -363,60 +387,17 @@ class ViewerSession:
             self.update_kinematics()
             return False
         start = (self.ghost if self.physical and not self.task_space else self.kin).endeff_tf.t()
-        self.demo = DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0]))
+        self.driver = CircleDriver(DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0])),
+                                   self.driver.base)
         if self.task_space:
-            self._follow_demo()
+            self.driver.follow(self)
         return True
-
-    def _follow_demo(self) -> None:
-        """The running circle demo as the task-space controller's reference, the tool held
-        at its current orientation."""
-        self.motion.follow(self.demo.task_reference(self.kin.endeff_tf.R().copy(), self.motion.sim.time))
 
     def _hold_here(self) -> None:
         """Task space: back to the state's desired joints, set where the arm is, at rest."""
         self.motion.follow(None)
         self.state.set_q_des(self.state.q())
         self.state.set_qd_des(np.zeros(self.robot.n_dofs))
-
-    def step_demo(self, dt: float) -> None:
-        """Advance the circle demo by ``dt`` s: qd from diff_ik_velocity with position
-        feedback.  Kinematic mode moves the arm; a joint-space physical mode moves the
-        desired state (q_des, qd_des), which the controller tracks; in a task-space mode
-        the simulation follows the circle itself and nothing is solved here."""
-        self.demo.time += dt
-        if self.task_space:  # the simulation follows the circle itself (_follow_demo)
-            return
-        point, velocity = self.demo.point_and_velocity()
-        physical = self.physical
-        ee = (self.ghost if physical else self.kin).endeff_tf.t()
-        command = velocity + vs.DEMO_FEEDBACK_GAIN * (point - ee)
-        q = self.state.q_des() if physical else self.state.q()
-        qd = diff_ik_velocity(self.robot, q, command)
-        q_new = np.clip(q + qd * dt, self.robot.q_min, self.robot.q_max)
-        self.state.set_q_des(q_new)
-        if physical:
-            self.state.set_qd_des((q_new - q) / dt)
-        else:
-            self.state.set_q(q_new)
-            self.state.set_qd((q_new - q) / dt)
-        self.update_kinematics()
-
-    def step(self, dt: float) -> None:
-        """Advance whatever moves (pick demo, circle demo, simulation, animation toward the
-        ghost) by ``dt`` s of wall-clock time.  The pick demo plays its planned joint
-        motion kinematically in every motion mode."""
-        if self.pick is not None:
-            self.pick.step(dt)
-            self.show_pick_at(self.pick.time)
-            return
-        if self.demo is not None:
-            self.step_demo(dt)
-        if self.physical:
-            self.limit_events.extend(self.motion.advance(dt))
-            self.update_kinematics()
-        elif self.demo is None:
-            self.step_animation(dt)
 
     # ---- pick demo (planned task, scrubbed or played) ----
     def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None,
@@ -425,20 +406,17 @@ class ViewerSession:
         playing unless at the end; stops the circle demo and hides the IK target.
         ``effort`` (N, n): the joint efforts when ``plan`` holds a run simulated in motion
         ``mode`` (control.MOTION_MODES)."""
-        self.demo, self.target_tf, self.ik_result = None, None, None
-        self.pick = PickDemo(plan, effort, mode=mode)
+        from robot_sim.viewer.drivers.pick import PickDemo, PickDriver  # the planner: numba
+
+        self.target_tf, self.ik_result = None, None
+        self.driver = PickDriver(PickDemo(plan, effort, mode=mode), self.driver.base)
         self.show_pick_at(time)
         self.pick.playing = self.pick.time < self.pick.duration
         self.fit_camera()
 
     def show_pick_at(self, t: float) -> None:
         """Put the arm (current and desired state) where the pick plan has it at ``t`` s."""
-        self.pick.seek(t)
-        q, qd, _ = self.pick.plan.trajectory.evaluate(self.pick.plan.trajectory.t[0] + self.pick.time)
-        self.state.set_q(q)
-        self.state.set_q_des(q)
-        self.state.set_qd(qd)
-        self.update_kinematics()
+        self.driver.show_at(self, t)  # type: ignore[attr-defined]
 
     # ---- drawing ----
     def velocity_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
@@ -489,8 +467,8 @@ class ViewerSession:
         scale = self.camera.world_per_pixel(height_px) * depth / distance
         self.motion.move_pull(point + (dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
 
-    def scene(self) -> Any:
-        """The robot_sim.graphics.Scene of the current state."""
+    def scene(self) -> go.Scene:
+        """The robot_sim.graphics.Scene of the current state, the trail included."""
         following = self.task_space and self.motion.sim.reference is not None
         target = self.target_tf
         if following and target is None and self.motion.sim.desired_pose is not None:
@@ -505,6 +483,7 @@ class ViewerSession:
             workspace=self.workspace,
             task=None if self.pick is None else self.pick.task_scene(),
             collision=self.collision.scene(self.state.q()) if self.options.show_collision else None,
+            trail=None if self.trail is None else self.trail.points(),
         )
 
     def status_text(self, fps_text: str) -> str:
@@ -527,7 +506,8 @@ class ViewerSession:
         return text
 
 
-def compute_workspace(robot: RobotParams, n_points: int, cancelled: Callable[[], bool] | None = None) -> Any:
+def compute_workspace(robot: RobotParams, n_points: int,
+                      cancelled: Callable[[], bool] | None = None) -> go.WorkspaceCloud:
     """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by
     manipulability; ``cancelled`` as in kinematics.workspace_points."""
     points, manipulability = workspace_points(robot, n_points, seed=vs.WORKSPACE_SEED, cancelled=cancelled)

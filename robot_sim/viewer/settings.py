@@ -35,9 +35,26 @@ READOUT_TRACKING_FORMAT = "\ntracking error {mm:.2f} mm {deg:.2f}°"
 # Endeffector trail (toggle key in KEY_BINDINGS)
 TRAIL_MAX_POINTS = 4000              # oldest points dropped beyond this
 TRAIL_MIN_STEP_M = 0.002             # a point closer than this to the last is not stored
+TRAIL_SAMPLE_S = 0.01                # simulated at once (--duration), the trail takes a point this often
 PATH_SAMPLE_STEP = 10                      # draw every 10th sample of the 1 kHz plan
 
 # --record: offscreen frames written to DIR
 RECORD_FRAME_FORMAT = "frame_{index:05d}.png"
 RECORD_VIDEO_NAME = "recording.mp4"     # beside the frames, when the optional `video` extra is installed
 RECORD_VIDEO_QUALITY = 8                # imageio-ffmpeg quality, 0 (worst) .. 10 (best)
+
+# Key commands (robot_sim.viewer.commands): camera and IK target steps per press
+KEY_ORBIT_STEP_DEG = 5.0
+KEY_ZOOM_FACTOR = 1.15               # per W / S press
+TARGET_STEP_M = 0.02                 # per I/K/J/L/U/O press
+TARGET_STEP_DEG = 5.0                # per Shift+I/K/J/L/U/O press
+# View presets (Ctrl+1..4): camera (azimuth, elevation) in degrees, target and distance kept.
+# front: eye on +x looking back at the base; side: eye on -y (x to the right);
+# top: looking down (x right, y up); iso: eye along (1, 1, 1).
+VIEW_PRESETS = {
+    "front": (0.0, 0.0),
+    "side": (-90.0, 0.0),
+    "top": (-90.0, 90.0),
+    "iso": (45.0, 35.26438968),
+}
+
