@@ -43,16 +43,22 @@ def is_local(url: str) -> bool:
 
 
 @pytest.fixture(scope="module")
-def browser(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Any]:
+def playwright_driver() -> Iterator[Any]:
     from playwright.sync_api import sync_playwright
 
     assert CHROMIUM.exists(), "the browser tests need Debian's chromium (make setup installs it)"
-    profile = tmp_path_factory.mktemp("chromium-profile")
     with sync_playwright() as playwright:
-        context = playwright.chromium.launch_persistent_context(
-            str(profile), executable_path=str(CHROMIUM), headless=True, args=FLAGS, viewport=VIEWPORT)
-        yield context
-        context.close()
+        yield playwright
+
+
+@pytest.fixture()
+def browser(playwright_driver: Any, tmp_path: Path) -> Iterator[Any]:
+    """Chromium with a fresh profile for each test (nothing a page stored carries over)."""
+    context = playwright_driver.chromium.launch_persistent_context(
+        str(tmp_path / "chromium-profile"), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
+        viewport=VIEWPORT)
+    yield context
+    context.close()
 
 
 def open_page(browser: Any, url: str, traffic: Traffic) -> Any:
@@ -100,10 +106,12 @@ class Served:
 
 
 def connected(page: Any, backend: Any) -> None:
-    """Wait until ``page`` is connected to ``backend``'s server and draws (a render asked
-    for earlier can be lost while the page is still starting)."""
+    """Wait until ``page`` is connected to ``backend``'s server (robot-sim --web's), draws,
+    and shows the panel's first update (a render asked for earlier can be lost while the
+    page is still starting; a control clicked earlier can move)."""
     wait_until(lambda: bool(backend.server.get_clients()), what="the page to connect")
     wait_until(lambda: page.locator("canvas").count() > 0, what="the page's canvas")
+    page.get_by_text("manipulability", exact=False).first.wait_for()  # the panel's first update is in
     time.sleep(1.0)
 
 

@@ -198,3 +198,45 @@ def test_cli_export_html(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert done.stdout == f"wrote {tmp_path / 'm.html'}\n"
     assert "__VISER_EMBED_DATA__" in (tmp_path / "m.html").read_text()
+
+
+# ---- rs.Visualizer(backend="web") ----
+def test_the_visualizer_serves_the_session(tmp_path: Path) -> None:
+    import robot_sim as rs
+
+    robot = load_robot("puma560")
+    with rs.Visualizer(robot, backend="web", size=(320, 240)) as viz:
+        port = int(viz.url.rsplit(":", 1)[1].strip("/"))
+        assert viz.url == f"http://127.0.0.1:{port}/"
+        viz.display(robot.q_home + 0.1)
+        assert np.allclose(viz.session.state.q(), robot.q_home + 0.1)
+        assert f'src="{viz.url}"' in viz._repr_html_()
+        assert 'srcdoc="&lt;!doctype html&gt;' in viz.embed()._repr_html_()
+        assert viz.export_html(tmp_path / "pose.html").read_text().startswith("<!doctype html>")
+        with pytest.raises(RuntimeError, match=r"^capture: no browser is connected; open http://127\.0\.0\.1:\d+/ first$"):
+            viz.capture()
+    with socket.socket() as again:  # closed: the port is free again
+        again.bind(("127.0.0.1", port))
+
+
+def test_no_exception_escapes_a_page_handler() -> None:
+    from types import SimpleNamespace
+
+    from robot_sim.web.serve import WebViewer
+
+    viewer = WebViewer(ViewerSession(load_robot("puma560")), "puma560", host="127.0.0.1", port=None)
+    try:
+        event = SimpleNamespace(client=object(), target=SimpleNamespace(value="0.5"))
+        viewer.panel._cell_edited(event, 99, "a")  # a row the robot does not have
+        assert viewer.panel.message.startswith("internal error in _cell_edited: IndexError")
+        event.target.value = "x"
+        viewer.panel._cell_edited(event, 0, "a")
+        with pytest.raises(ValueError) as window_says:
+            from robot_sim.viewer.dh_table import edit_cell
+
+            edit_cell(viewer.backend.session.robot, 0, "a", "x")
+        assert viewer.panel.message == f"refused: {window_says.value}"
+        with urllib.request.urlopen(viewer.url) as reply:  # still serving
+            assert reply.status == 200
+    finally:
+        viewer.close()

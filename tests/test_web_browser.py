@@ -16,6 +16,7 @@ from browser_helpers import (
     Served,
     Traffic,
     browser,  # noqa: F401 - the fixture
+    playwright_driver,  # noqa: F401 - the fixture
     canvas_box,
     click_at_fraction,
     connected,

@@ -21,9 +21,12 @@ Modules, one job each:
   arrows; ``vector_clip``: which arrows are drawn, shortened to the view;
 * ``shaders``: the GLSL programs; ``buffers``: vertex buffers; ``targets``: the
   multisampled target and the shadow map; ``lighting``: lights and the shadow's view;
-* ``meshes``: unit meshes tessellated once; ``robot_parts``: the robot as its DH
-  segments and joints, part sizes; ``solid``: the solid look; ``visuals``: the robot's
-  own shapes as drawable pieces; ``arrows``: arrow placements;
+* ``meshes``: unit meshes tessellated once; ``placements``: where copies of them go;
+  ``robot_parts``: the robot as its DH segments and joints, part sizes; ``solid``: the
+  solid look; ``visuals``: the robot's own shapes as drawable pieces; ``arrows``: arrow
+  placements; ``frame_axes``, ``annotation_geometry``, ``floor_grid``: frames, the DH
+  annotation and the floor as geometry (these and the modules above draw nothing, so the
+  browser view (robot_sim.web) uses them too);
 * ``font``: the label font (FreeType glyph atlas); ``offscreen``: :class:`OffscreenRenderer`
   (OSMesa) and :func:`save_png`; ``gl``: the lazily imported PyOpenGL and platform choice.
 

@@ -28,6 +28,18 @@ CAPTURE_TIMEOUT_S = 8.0
 NOTEBOOK_HEIGHT_PX = 520
 
 
+class StaticPage:
+    """A self-contained page shown inline by Jupyter (``_repr_html_``: an iframe holding
+    the page itself, so the notebook needs no server to show it later)."""
+
+    def __init__(self, page: str) -> None:
+        self.page = page
+
+    def _repr_html_(self) -> str:
+        return (f'<iframe srcdoc="{html.escape(self.page, quote=True)}" width="100%" '
+                f'height="{NOTEBOOK_HEIGHT_PX}" style="border:none"></iframe>')
+
+
 class WebBackend:
     """A viser server showing ``session``; ``size`` (width, height) in pixels is the size of
     :meth:`capture`'s picture.  ``host``/``port``: where the server listens (None: a free
@@ -92,9 +104,11 @@ class WebBackend:
         return np.ascontiguousarray(np.asarray(image)[..., :3], dtype=np.uint8)
 
     def wait(self, seconds: float) -> None:
-        """Let ``seconds`` of wall time pass (the server answers the page meanwhile)."""
-        if seconds > 0.0:
-            time.sleep(seconds)
+        """Let ``seconds`` of wall time pass (the server answers the page meanwhile); with
+        ``math.inf``, until Ctrl+C or :meth:`close`."""
+        end = time.monotonic() + seconds
+        while not self._closed and (left := end - time.monotonic()) > 0.0:
+            time.sleep(min(left, 1.0))
 
     def wait_for_browser(self, timeout: float = 30.0) -> bool:
         """Wait until a page is connected (at most ``timeout`` s); returns whether one is."""
@@ -116,6 +130,14 @@ class WebBackend:
         """The live page in a notebook cell (while the server runs)."""
         return (f'<iframe src="{html.escape(self.url)}" width="100%" height="{NOTEBOOK_HEIGHT_PX}" '
                 'style="border:none"></iframe>')
+
+    def embed(self, trajectory: Any = None, fps: float | None = None) -> StaticPage:
+        """The session (or ``trajectory`` played on it) as a self-contained page for a
+        notebook cell: it stays in the saved notebook and needs no server."""
+        from robot_sim.web.export import export_page
+
+        with self.lock:
+            return StaticPage(export_page(self.session, trajectory=trajectory, fps=fps))
 
     def export_html(self, path: str | Path, trajectory: Any = None, fps: float | None = None) -> Path:
         """Write the session (or ``trajectory`` played on it) as a self-contained page; see

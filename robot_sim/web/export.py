@@ -58,16 +58,22 @@ def sample_times(duration: float, fps: float) -> np.ndarray:
 
 
 def export_html(session: Any, path: str | Path, trajectory: Any = None, fps: float | None = None) -> Path:
-    """Write ``session`` as a self-contained HTML page to ``path`` and return the path.
-
-    ``trajectory`` (robot_sim.planning.Trajectory): the motion played from its first to
-    its last time; None: the session's pick task if it shows one, else the current pose
-    alone.  ``fps``: samples per second of a motion (default ``EXPORT_FPS``).
-    """
+    """Write ``session`` as a self-contained HTML page to ``path`` (atomically) and return
+    the path; see :func:`export_page`.  ValueError for a name not ending in .html,
+    FileWriteError for a place that cannot be written (both before any work)."""
     target = Path(path)
     if target.suffix.lower() not in (".html", ".htm"):
         raise ValueError(f"export_html: '{str(target.name)[:80]}' must end in .html")
     check_writable(target)
+    write_atomic(target, export_page(session, trajectory, fps))
+    return target
+
+
+def export_page(session: Any, trajectory: Any = None, fps: float | None = None) -> str:
+    """``session`` as a self-contained HTML page (text).  ``trajectory``
+    (robot_sim.planning.Trajectory): the motion played from its first to its last time;
+    None: the session's pick task if it shows one, else the current pose alone.  ``fps``:
+    samples per second of a motion (default ``EXPORT_FPS``)."""
     rate = EXPORT_FPS if fps is None else float(fps)
     twin = _posed_copy(session)
     pick = session.pick
@@ -99,5 +105,4 @@ def export_html(session: Any, path: str | Path, trajectory: Any = None, fps: flo
         page = recording.as_html(dark_mode=twin.options.theme == "dark")
     finally:
         stop_server(server)
-    write_atomic(target, page)
-    return target
+    return page

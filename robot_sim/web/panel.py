@@ -11,7 +11,6 @@ server's loop) shows the result.
 """
 from __future__ import annotations
 
-import copy
 from typing import Any, Callable
 
 import numpy as np
@@ -24,7 +23,7 @@ from robot_sim.io.robot_writer import to_toml
 from robot_sim.kinematics import manipulability
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.transforms import quaternion_from_rot, rot_from_quaternion, rpy_from_rot
-from robot_sim.viewer.dh_table import COLUMNS, HEADERS, carry_joint_values, cell_text, edit_cell, is_editable
+from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable
 from robot_sim.viewer.readout import pose_readout
 from robot_sim.viewer.session import ViewerSession, display_range, display_scale, wrap_display
 from robot_sim.web.guard import guarded
@@ -37,21 +36,6 @@ SLIDER_STEP = 0.1
 PICK_FORMAT = "phase: **{phase}** at {t:.2f} s of {duration:.2f} s"
 #: Size of the IK gizmo as a fraction of the robot's reach.
 GIZMO_SCALE_FRAC = 0.15
-
-
-def replaced_session(old: ViewerSession, robot: RobotParams) -> ViewerSession:
-    """A session showing ``robot`` in place of ``old``'s: joint values carried over where
-    the joints match (dh_table.carry_joint_values), options, world and camera kept."""
-    new = ViewerSession(robot, aspect=old.aspect, gain_overrides=old.gain_overrides, world=old.world)
-    keep = copy.deepcopy(old.options)
-    if keep.n_frames != new.options.n_frames:
-        keep.show_frames = new.options.show_frames
-        keep.annotate_joint = None
-    new.options = keep
-    new.set_q(carry_joint_values(old.robot, old.state.q(), robot))
-    new._posed = False
-    new.fit_camera()
-    return new
 
 
 class WebPanel:
@@ -113,6 +97,7 @@ class WebPanel:
             self.pick_play.on_click(self._pick_play_clicked)
             self.pick_time = gui.add_slider("time [s]", 0.0, 1.0, 0.01, 0.0)
             self.pick_time.on_update(self._pick_scrubbed)
+        self.pick_folder.visible = self.session.pick is not None  # shown from the start: no layout jump later
         self.joint_folder = gui.add_folder("Joints")
         self.dh_folder = gui.add_folder("DH table", expand_by_default=False)
         self.sliders: list[Any] = []
@@ -227,7 +212,7 @@ class WebPanel:
         self.say(f"showing {robot.name}")
 
     def _show_robot(self, robot: RobotParams) -> None:
-        session = replaced_session(self.session, robot)
+        session = self.session.with_robot(robot)
         self.backend.set_session(session)
         self.on_new_session(session)
         self.rebuild()
