@@ -38,14 +38,17 @@ FPS_JS = """ms => new Promise(done => { let n = 0; const t0 = performance.now();
   requestAnimationFrame(frame); })"""
 
 
-def streaming(playwright, seconds: float) -> dict[str, float]:
+def streaming(playwright, seconds: float, moving: bool = True) -> dict[str, float]:
+    """The served UR5 under computed torque, following the circle demo (``moving``) or
+    resting: real-time factor, updates sent per second, the page's frame rate."""
     from robot_sim.io.robot_file import load_robot
     from robot_sim.viewer.session import ViewerSession
     from robot_sim.web.serve import WebViewer
 
     session = ViewerSession(load_robot("ur5"), aspect=1.5)
     session.set_motion("ct")
-    session.toggle_demo()
+    if moving:
+        session.toggle_demo()
     viewer = WebViewer(session, "ur5", host="127.0.0.1", port=None)
     thread = threading.Thread(target=viewer.run, daemon=True)
     with tempfile.TemporaryDirectory() as profile:
@@ -132,16 +135,19 @@ def main() -> None:
 
     with sync_playwright() as playwright:
         startup(playwright)  # fills the numba cache; not counted
-        starts, streams = [], []
-        for _ in range(args.repeats):  # alternated, so the machine's load falls on both alike
+        starts, streams, idle = [], [], []
+        for _ in range(args.repeats):  # alternated, so the machine's load falls on all alike
             starts.append(startup(playwright))
             streams.append(streaming(playwright, args.seconds))
+            idle.append(streaming(playwright, args.seconds, moving=False)["page_fps"])
     print(f"start to first drawn arm: median {statistics.median(starts):.2f} s  (runs {', '.join(f'{s:.2f}' for s in starts)})")
     for key, label in (("rtf", "real-time factor"), ("updates_per_s", "pose updates sent per second"),
                        ("page_fps", "page frames per second (software WebGL)")):
         values = [s[key] for s in streams]
         print(f"UR5 ct, circle demo, streamed: {label}: median {statistics.median(values):.2f} "
               f"(runs {', '.join(f'{v:.2f}' for v in values)})")
+    print(f"the same page, the arm at rest: page frames per second: median {statistics.median(idle):.2f} "
+          f"(runs {', '.join(f'{v:.2f}' for v in idle)})")
     with tempfile.TemporaryDirectory() as folder:
         size, client, duration = export_size(Path(folder) / "pick.html")
     print(f"export of the UR5 pick task ({duration:.1f} s at 25 fps): {size / 1e6:.2f} MB, of which viser's client "

@@ -240,3 +240,34 @@ def test_no_exception_escapes_a_page_handler() -> None:
             assert reply.status == 200
     finally:
         viewer.close()
+
+
+def test_what_a_page_sends_is_checked_before_use(tmp_path: Path) -> None:
+    """A page can send any value, not only what its controls offer: never a path to open,
+    never a non-finite joint value."""
+    from types import SimpleNamespace
+
+    from robot_sim.web.serve import WebViewer
+
+    robot = load_robot("puma560")
+    viewer = WebViewer(ViewerSession(robot), "puma560", host="127.0.0.1", port=None)
+    panel = viewer.panel
+    secret = tmp_path / "robot.toml"
+    secret.write_text((Path(__file__).parents[1] / "robots" / "ur5.toml").read_text())
+    try:
+        for value in (str(secret), "../robots/ur5", "ur5.toml"):
+            panel._robot_chosen(SimpleNamespace(client=object(), target=SimpleNamespace(value=value)))
+            assert viewer.backend.session.robot is robot
+            assert panel.message.startswith("robot: expected one of ") and panel.message.endswith(f"got {value!r}")
+        q = viewer.backend.session.state.q()
+        slider = panel.sliders[0]
+        for value in ("nan", float("inf"), slider.max + 1.0, "1e400"):
+            panel._slider_moved(SimpleNamespace(client=object(), target=SimpleNamespace(value=value, min=slider.min,
+                                                                                         max=slider.max)), 0)
+            assert np.array_equal(viewer.backend.session.state.q(), q)
+            assert panel.message.startswith("expected a number in -160..160, got ")
+        panel._annotate_chosen(SimpleNamespace(client=object(), target=SimpleNamespace(value="7")))
+        assert viewer.backend.session.options.annotate_joint is None
+        assert panel.message == "annotate joint: expected one of none, 1, 2, 3, 4, 5, 6, got '7'"
+    finally:
+        viewer.close()

@@ -259,3 +259,55 @@ def test_the_exported_page_plays_from_a_file(browser, tmp_path: Path) -> None:
     finally:
         page.close()
     assert traffic.blocked == [] and all(u.split(":")[0] in ("file", "blob", "data") for u in traffic.requests)
+
+
+def test_every_tab_sees_the_same_session(browser) -> None:
+    served = Served(_session(annotate=None), "puma560")
+    backend = served.viewer.backend
+    try:
+        first, second = (open_page(browser, backend.url, Traffic()) for _ in range(2))
+        connected(first, backend)
+        connected(second, backend)
+        wait_until(lambda: len(backend.server.get_clients()) == 2, what="both tabs")
+        click_at_fraction(first, "q2 [°]", 0.8)
+        wait_until(lambda: not served.session.moving() and abs(served.session.state.q()[1] - np.radians(45)) > 0.1,
+                   what="joint 2 to follow the first tab's slider")
+        shown = np.degrees(served.session.state.q()[1])
+        thumb = control(second, "q2 [°]").get_by_role("slider")
+        wait_until(lambda: abs(float(thumb.get_attribute("aria-valuenow")) - shown) < 0.2,
+                   what="the second tab's slider to show the new value")
+        first.close()
+        second.close()
+    finally:
+        served.close()
+
+
+def test_a_robot_switch_asks_about_unsaved_edits(browser) -> None:
+    served = Served(_session(annotate=None), "puma560")
+    backend = served.viewer.backend
+    try:
+        page = open_page(browser, backend.url, Traffic())
+        connected(page, backend)
+        page.get_by_text("DH table", exact=True).click()
+        control(page, "2 a [m]").fill("0.5")
+        wait_until(lambda: served.session.robot.dh_a[1] == 0.5, what="the edit")
+        edited = served.session.robot
+
+        def choose_ur5() -> None:
+            control(page, "robot").click()
+            page.get_by_role("option", name="ur5", exact=True).click()
+
+        question = f"{edited.name} has unsaved edits. Save them before switching to ur5?"
+        choose_ur5()
+        page.get_by_text(question, exact=True).wait_for()
+        page.get_by_role("button", name="Cancel", exact=True).click()
+        wait_until(lambda: page.get_by_text(question, exact=True).count() == 0, what="the question to close")
+        time.sleep(1.0)
+        assert served.session.robot is edited, "Cancel keeps the robot and its edits"
+        choose_ur5()
+        page.get_by_text(question, exact=True).wait_for()
+        page.get_by_role("button", name="Discard", exact=True).click()
+        wait_until(lambda: served.session.robot.name == "UR5", what="the switch after Discard")
+        page.close()
+    finally:
+        served.close()

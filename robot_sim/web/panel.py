@@ -11,6 +11,7 @@ server's loop) shows the result.
 """
 from __future__ import annotations
 
+import math
 from typing import Any, Callable
 
 import numpy as np
@@ -142,12 +143,33 @@ class WebPanel:
         self.message = text
         self.status.content = f"**{text}**" if text else ""
 
+    # ---- what a page sends is checked (a page can send anything, not only what it shows) ----
+    def _offered(self, dropdown: Any, value: Any) -> bool:
+        """True when ``value`` is one of ``dropdown``'s options; otherwise says so."""
+        if value in dropdown.options:
+            return True
+        self.say(f"{dropdown.label}: expected one of {', '.join(dropdown.options)}, got {str(value)[:80]!r}")
+        return False
+
+    def _number(self, value: Any, lo: float, hi: float) -> float | None:
+        """``value`` as a finite number within [lo, hi], or None (said on the page)."""
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not lo <= number <= hi:
+            self.say(f"expected a number in {lo:g}..{hi:g}, got {str(value)[:80]!r}")
+            return None
+        return number
+
     # ---- handlers (guarded: under the lock, never raising) ----
     @guarded
     def _slider_moved(self, event: Any, index: int) -> None:
         if event.client is None:
             return
-        self.session.set_joint(index, float(event.target.value) / float(display_scale(self.session.robot)[index]))
+        value = self._number(event.target.value, event.target.min, event.target.max)
+        if value is not None:
+            self.session.set_joint(index, value / float(display_scale(self.session.robot)[index]))
 
     @guarded
     def _cell_edited(self, event: Any, row: int, column: str) -> None:
@@ -168,6 +190,8 @@ class WebPanel:
             return
         name = event.target.value
         if name == self.robot_choice:
+            return
+        if not self._offered(self.robot_box, name):  # a page can send any text: never a path of its own
             return
         if self.edited:
             self._ask_unsaved(name, event.client)
@@ -252,7 +276,7 @@ class WebPanel:
 
     @guarded
     def _look_chosen(self, event: Any) -> None:
-        if event.client is not None:
+        if event.client is not None and self._offered(self.look_box, event.target.value):
             self.session.options.look = event.target.value
 
     @guarded
@@ -291,7 +315,8 @@ class WebPanel:
     def _annotate_chosen(self, event: Any) -> None:
         if event.client is not None:
             value = event.target.value
-            self.session.options.annotate_joint = None if value == NO_JOINT else int(value)
+            if self._offered(self.annotate_box, value):
+                self.session.options.annotate_joint = None if value == NO_JOINT else int(value)
 
     @guarded
     def _pick_play_clicked(self, event: Any) -> None:
@@ -306,8 +331,10 @@ class WebPanel:
     def _pick_scrubbed(self, event: Any) -> None:
         if event.client is None or self.session.pick is None:
             return
-        self.session.pick.playing = False
-        self.session.show_pick_at(float(event.target.value))
+        t = self._number(event.target.value, 0.0, self.session.pick.duration)
+        if t is not None:
+            self.session.pick.playing = False
+            self.session.show_pick_at(t)
 
     @guarded
     def _gizmo_moved(self, event: Any) -> None:
@@ -317,6 +344,9 @@ class WebPanel:
         if session.target_tf is None:
             return
         old = session.target_tf.mat
+        if not (np.isfinite(handle.position).all() and np.isfinite(handle.wxyz).all()):
+            self.say("IK target: the page sent a pose that is not finite")
+            return
         rotation = rot_from_quaternion(handle.wxyz) @ old[:3, :3].T  # about world axes through the target
         translation = np.asarray(handle.position, dtype=float) - old[:3, 3]
         reached = session.move_target(translation=translation, rpy=np.array(rpy_from_rot(rotation)))
