@@ -220,12 +220,12 @@ def window_orbit() -> tuple[float, float]:
     from PyQt5.QtCore import Qt
     from PyQt5.QtTest import QTest
 
-    from robot_sim.app import cli
+    from robot_sim.app import output, prepare
     from robot_sim.qt.window import MainWindow
 
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(["robot-sim"])
-    config = cli.config_from_args(cli.build_parser().parse_args(["--robot", "humanoid7"]))
-    window = MainWindow(cli.session_from_config(config), cli.window_options(config))
+    config = prepare.prepare(["--robot", "humanoid7"])
+    window = MainWindow(prepare.session_from_config(config), output.window_options(config))
     window.resize(*WINDOW_SIZE)
     window.show()
     QTest.qWaitForWindowExposed(window)

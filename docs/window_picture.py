@@ -19,7 +19,7 @@ from PyQt5 import QtCore, QtWidgets  # noqa: E402
 from PyQt5.QtCore import Qt  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 
-from robot_sim.app import cli  # noqa: E402
+from robot_sim.app import output, prepare  # noqa: E402
 from robot_sim.io.files import write_atomic  # noqa: E402
 from robot_sim.qt.window import APP_NAME, MainWindow  # noqa: E402
 
@@ -30,8 +30,8 @@ SECONDS = 5.0  # of the circle demo before the picture
 
 def main(out: str) -> int:
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(["robot-sim"])
-    config = cli.config_from_args(cli.build_parser().parse_args(ARGS))
-    window = MainWindow(cli.session_from_config(config), cli.window_options(config))
+    config = prepare.prepare(ARGS)
+    window = MainWindow(prepare.session_from_config(config), output.window_options(config))
     window.resize(*SIZE)
     window.show()
     QTest.qWaitForWindowExposed(window)

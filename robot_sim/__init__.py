@@ -5,7 +5,7 @@
 
     import robot_sim as rs
     robot = rs.load_robot("puma560")
-    T = rs.forward_kinematics(robot, robot.q_home)[-1]
+    T = rs.forward_kinematics(robot, robot.q_home)  # the tool's pose in the world, (4, 4)
 
 The subpackages are the architecture (see docs/layout.md): ``model``, ``io``,
 ``kinematics``, ``dynamics``, ``control``, ``planning``, ``graphics``, ``viewer``, ``qt``, ``app``.

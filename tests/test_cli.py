@@ -164,11 +164,11 @@ def test_screenshot_with_another_extension_is_refused_and_nothing_written(tmp_pa
     [(None, None), ("none", []), ("0", [0]), ("2, 0", [2, 0]), ("0,E", [0, 4]), ("e", [4]), ("all", [0, 1, 2, 3, 4])],
 )
 def test_frames_option_lists_exactly_the_frames_to_show(text: str | None, expected: list[int] | None) -> None:
-    from robot_sim.app.cli import parse_frames, session_from_config, config_from_args, build_parser
+    from robot_sim.app.prepare import parse_frames, prepare, session_from_config
 
     assert parse_frames(text, 4) == expected
     args = ["--screenshot", "unused.png"] + ([] if text is None else ["--frames", text])
-    options = session_from_config(config_from_args(build_parser().parse_args(args))).options
+    options = session_from_config(prepare(args)).options
     if expected is None:  # the default: the base frame only
         assert options.show_frames == [True, False, False, False] and not options.show_endeff_frame
     else:
@@ -180,7 +180,7 @@ def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
     """``--frames 0`` shows the base frame (it used to toggle it off): red and green pixels
     where Camera.project puts its x and y axes, absent with ``--frames none``."""
     from robot_sim import graphics as go
-    from robot_sim.app.cli import build_parser, config_from_args, session_from_config
+    from robot_sim.app.prepare import prepare, session_from_config
 
     pictures, sessions = {}, {}
     for frames in ("0", "none"):
@@ -188,7 +188,7 @@ def test_frames_0_draws_the_base_frame(tmp_path: Path) -> None:
         args = ["--robot", "puma560", "--frames", frames, "--size", "320x240", "--screenshot", str(out)]
         assert run(*args).returncode == 0
         pictures[frames] = read_png(out)[..., :3].astype(int)
-        sessions[frames] = session_from_config(config_from_args(build_parser().parse_args(args)))
+        sessions[frames] = session_from_config(prepare(args))
     kin = sessions["0"].kin
     length = go.robot_look(kin.robot).frame_length
     base = kin.h_tf[0]

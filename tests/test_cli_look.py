@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robot_sim.app.cli import build_parser, config_from_args, session_from_config
+from robot_sim.app.prepare import prepare, session_from_config
 
 from cli_helpers import read_png, run
 from geometry_helpers import boxed_arm
@@ -16,7 +16,7 @@ from render_helpers import H, W, render  # noqa: F401 - fixture
 
 
 def _session(*args: str):
-    config = config_from_args(build_parser().parse_args([*args, "--size", f"{W}x{H}"]))
+    config = prepare([*args, "--size", f"{W}x{H}"])
     return session_from_config(config)
 
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from robot_sim import dynamics
-from robot_sim.app.cli import build_parser, config_from_args, session_from_config
+from robot_sim.app.prepare import prepare, session_from_config
 from robot_sim.control.controllers import control_gains
 from kin_helpers import robot
 from robot_sim.kinematics import forward_kinematics
@@ -15,7 +15,7 @@ from cli_helpers import assert_one_line_error, read_png, run
 
 
 def _session(*args: str):
-    return session_from_config(config_from_args(build_parser().parse_args(list(args))))
+    return session_from_config(prepare(list(args)))
 
 
 def test_motion_and_duration_simulate_before_the_screenshot(tmp_path):

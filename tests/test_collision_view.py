@@ -13,7 +13,7 @@ import pytest
 from cli_helpers import assert_one_line_error, run
 from render_helpers import render  # noqa: F401 (fixture)
 from robot_sim import dynamics
-from robot_sim.app import cli
+from robot_sim.app import prepare
 from robot_sim.collision import CollisionChecker
 from robot_sim.graphics.collision_scene import collision_parts
 from robot_sim.graphics import defs as gd
@@ -105,9 +105,9 @@ def test_passive_arm_in_the_viewer_rests_on_the_table(world):
 
 
 def test_command_line_world_and_collision(world, tmp_path):
-    config = cli.config_from_args(cli.build_parser().parse_args(
-        ["--robot", "ur5", "--world", str(world), "--collision", "--q", "0,-30,60,-120,0,0"]))
-    session = cli.session_from_config(config)
+    config = prepare.prepare(
+        ["--robot", "ur5", "--world", str(world), "--collision", "--q", "0,-30,60,-120,0,0"])
+    session = prepare.session_from_config(config)
     assert session.options.show_collision and session.world.names == ("floor", "table")
     bad = tmp_path / "bad.toml"
     bad.write_text('[[obstacles]]\nname = "x"\nshape = "cone"\n')

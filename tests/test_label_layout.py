@@ -10,7 +10,7 @@ from robot_sim import graphics as go
 
 go.require_osmesa_platform()
 
-from robot_sim.app import cli  # noqa: E402
+from robot_sim.app import prepare  # noqa: E402
 from robot_sim.graphics import defs as gd  # noqa: E402
 from robot_sim.graphics.label_layout import (  # noqa: E402
     boxes_overlap,
@@ -106,7 +106,7 @@ def test_every_joints_annotation_has_its_labels_apart_and_off_the_arrows(rendere
                                                                         robot: str) -> None:
     for joint in range(1, ROBOTS[robot] + 1):
         args = ["--robot", robot, "--annotate", str(joint), "--frames", f"{joint - 1},{joint}", "--size", f"{W}x{H}"]
-        session = cli.session_from_config(cli.config_from_args(cli.build_parser().parse_args(args)))
+        session = prepare.session_from_config(prepare.prepare(args))
         image = renderer.render(session.camera, session.scene(), session.options)
         item = renderer.view.item(LabelsItem)
         labels, boxes = item.labels, item.placement.boxes

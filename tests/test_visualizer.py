@@ -129,3 +129,16 @@ def test_bad_joint_values_and_trajectories_change_nothing() -> None:
             viz.play((np.array([0.0, 0.0, 1.0]), np.zeros((3, 6))))
         np.testing.assert_array_equal(viz.session.state.q(), q0)
         assert not math.isnan(viz.capture().mean())
+
+
+def test_backend_attributes_are_read_through_the_visualizer() -> None:
+    robot = rs.load_robot("planar3")
+    with rs.Visualizer(robot, size=(64, 48)) as viz:
+        viz.display()
+        assert viz.frames == viz.backend.frames == 1  # the offscreen backend's own attribute
+        with pytest.raises(AttributeError):
+            viz.no_such_attribute
+        with pytest.raises(AttributeError):
+            viz._renderer  # private names are not delegated
+    with pytest.raises(TypeError, match="the offscreen backend takes no options, got port"):
+        rs.Visualizer(robot, size=(64, 48), port=8080)

@@ -80,3 +80,19 @@ def test_wait_forever_returns_when_the_user_closes_the_window(app: QApplication)
     assert not viz.backend.window.isVisible()
     viz.close()
     viz.close()  # harmless twice
+
+
+def test_a_trail_played_in_real_time_keeps_the_samples_it_skipped(app: QApplication) -> None:
+    robot = rs.load_robot("puma560")
+    t = np.linspace(0.0, 0.2, 201)  # 1 kHz: far more samples than frames
+    q = np.asarray(robot.q_home) + np.outer(t / 0.2, np.r_[1.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    with rs.Visualizer(robot, backend="window", size=(320, 240)) as viz:
+        viz.session.toggle_trail()
+        viz.play((t, q))
+        points = viz.session.trail.points()
+    tool = rs.forward_kinematics(robot, q)[:, :3, 3]
+    sample_step = np.linalg.norm(np.diff(tool, axis=0), axis=1).max()  # 3.8 mm, above the trail's 2 mm
+    # every sample's tool position, not the few chords between the frames drawn
+    assert len(points) == len(t)
+    assert np.linalg.norm(np.diff(points, axis=0), axis=1).max() <= sample_step + 1e-12
+    np.testing.assert_allclose(points, tool, atol=1e-12)

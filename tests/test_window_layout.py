@@ -16,7 +16,7 @@ from PyQt5.QtCore import QRect  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QAbstractItemView, QAbstractScrollArea, QApplication, QDockWidget, QWidget  # noqa: E402
 
-from robot_sim.app import cli  # noqa: E402
+from robot_sim.app import output, prepare  # noqa: E402
 from robot_sim.qt import window as viewer_window  # noqa: E402
 from robot_sim.qt.pick_panel import TIMELINE_MIN_WIDTH_PX  # noqa: E402
 from robot_sim.viewer.dh_table import COLUMNS, variable_column  # noqa: E402
@@ -35,7 +35,7 @@ CASES = [
 @functools.lru_cache(maxsize=None)
 def config(*args: str) -> Any:
     """The validated command line (a simulated pick run takes seconds: made once)."""
-    return cli.config_from_args(cli.build_parser().parse_args(list(args)))
+    return prepare.prepare(list(args))
 
 
 @pytest.fixture
@@ -43,7 +43,7 @@ def opened(app: QApplication) -> Iterator[Any]:  # noqa: F811
     windows: list[Any] = []
 
     def open_(*args: str, size: tuple[int, int]) -> Any:
-        win = viewer_window.MainWindow(cli.session_from_config(config(*args)), cli.window_options(config(*args)))
+        win = viewer_window.MainWindow(prepare.session_from_config(config(*args)), output.window_options(config(*args)))
         win.resize(*size)
         win.show()
         QTest.qWaitForWindowExposed(win)
@@ -155,9 +155,9 @@ def test_the_joint_variable_column_never_elides(opened: Any, robot: str) -> None
 
 
 def test_size_sizes_pictures_not_the_window(app: QApplication) -> None:  # noqa: F811
-    given = cli.config_from_args(cli.build_parser().parse_args(["--size", "320x240"]))
+    given = prepare.prepare(["--size", "320x240"])
     assert given.size == (320, 240)
-    win = viewer_window.MainWindow(cli.session_from_config(given), cli.window_options(given))
+    win = viewer_window.MainWindow(prepare.session_from_config(given), output.window_options(given))
     try:
         assert (win.width(), win.height()) == viewer_window.opening_size() == viewer_window.WINDOW_SIZE
     finally:

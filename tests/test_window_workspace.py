@@ -10,7 +10,7 @@ from typing import Any, Callable
 
 import pytest
 
-from robot_sim.app import cli
+from robot_sim.app import output, prepare
 import simulator
 
 if "OpenGL.platform" not in __import__("sys").modules:
@@ -34,8 +34,8 @@ def app() -> QApplication:
 
 
 def open_window(*args: str) -> Any:
-    config = simulator.config_from_args(simulator.build_parser().parse_args(list(args)))
-    win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    config = prepare.prepare(list(args))
+    win = viewer_window.MainWindow(prepare.session_from_config(config), output.window_options(config))
     win.resize(800, 600)
     win.show()
     win.view.setFocus()

@@ -19,7 +19,7 @@ from PyQt5.QtGui import QWheelEvent  # noqa: E402
 from PyQt5.QtTest import QTest  # noqa: E402
 from PyQt5.QtWidgets import QApplication  # noqa: E402
 
-from robot_sim.app import cli
+from robot_sim.app import output, prepare
 import simulator  # noqa: E402
 from robot_sim.qt import window as viewer_window  # noqa: E402
 
@@ -34,8 +34,8 @@ def raiser(*args, **kwargs):
 
 def main(case: str) -> None:
     app = QApplication(["probe"])
-    config = simulator.config_from_args(simulator.build_parser().parse_args([]))
-    win = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    config = prepare.prepare([])
+    win = viewer_window.MainWindow(prepare.session_from_config(config), output.window_options(config))
     win.resize(640, 480)
     win.show()
     QTest.qWaitForWindowExposed(win)

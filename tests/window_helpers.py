@@ -12,7 +12,7 @@ import pytest
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.themes import THEMES
-from robot_sim.app import cli
+from robot_sim.app import output, prepare
 import simulator
 
 if "OpenGL.platform" not in __import__("sys").modules:
@@ -37,8 +37,8 @@ def app() -> QApplication:
 
 def open_window(app: QApplication, *args: str, size: tuple[int, int] = (900, 640)) -> Any:
     """The main window for command-line ``args``, ``size`` pixels, shown and focused."""
-    config = simulator.config_from_args(simulator.build_parser().parse_args(list(args)))
-    window = viewer_window.MainWindow(cli.session_from_config(config), cli.window_options(config))
+    config = prepare.prepare(list(args))
+    window = viewer_window.MainWindow(prepare.session_from_config(config), output.window_options(config))
     window.resize(*size)
     window.show()
     window.activateWindow()

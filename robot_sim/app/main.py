@@ -1,5 +1,7 @@
-"""``robot-sim``'s entry point (thin, as MuJoCo's viewer): parse and validate the command line
-(:mod:`robot_sim.app.cli`), run the offscreen actions, or open the window on a viewer session.
+"""``robot-sim``'s entry point (thin, as MuJoCo's viewer): parse the command line
+(:mod:`robot_sim.app.cli`), prepare the robot and the session (:mod:`robot_sim.app.prepare`),
+then output: the robot actions, the offscreen pictures, or the window
+(:mod:`robot_sim.app.output`).
 
 Bad input is reported as one ``robot-sim: error: ...`` line with exit status 2;
 ``--screenshot`` renders offscreen through OSMesa without importing Qt at all.
@@ -15,32 +17,18 @@ from typing import Sequence
 # small matrix products of each frame only compete with it.  Set before NumPy loads.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from robot_sim.app import web_cmd
-from robot_sim.app.cli import (
-    PROG,
-    CliError,
-    Config,
-    attach_negative_values,
-    build_parser,
-    check_display,
-    config_from_args,
-    robot_actions,
-    session_from_config,
-    window_options,
-    write_recording,
-    write_screenshot,
-)
-from robot_sim.app.robot_cmds import robots_table  # noqa: E402
+from robot_sim.app.cli import PROG, CliError, build_parser, parse_args  # noqa: E402
+from robot_sim.app import web_cmd  # noqa: E402
+from robot_sim.app.prepare import Config, config_from_args, session_from_config  # noqa: E402
 
 __all__ = ["Config", "build_parser", "config_from_args", "launch", "main"]
 
 
 def launch(config: Config) -> int:
-    """Open the viewer window for a validated ``config`` and run Qt's event loop until it
-    closes; returns the loop's exit status.  Imports Qt (and only here)."""
-    from robot_sim.qt import window
+    """Open the viewer window for a prepared ``config`` (robot_sim.app.output.launch)."""
+    from robot_sim.app import output
 
-    return window.run_window(session_from_config(config), window_options(config))
+    return output.launch(config)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -51,27 +39,31 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         return sweep_cmd.main(argv[1:])
     try:
-        args = build_parser().parse_args(attach_negative_values(argv))
+        args = parse_args(argv)
         if args.list_robots:
+            from robot_sim.app.robot_cmds import robots_table
+
             print(robots_table())
             return 0
         config = config_from_args(args)
         config.command = shlex.join([PROG, *argv])
-        if robot_actions(args, config.robot) and config.screenshot is None:
+        from robot_sim.app import output
+
+        if output.robot_actions(args, config.robot) and config.screenshot is None:
             return 0
         if config.pick_report is not None:
             print(config.pick_report)
         if config.record is not None:
-            frames, video = write_recording(config)
+            frames, video = output.write_recording(config)
             print(f"wrote {len(frames)} frames to {config.record}" + (f" and {video}" if video else ""))
             return 0
-        if web_cmd.wanted(args):
+        if web_cmd.wanted(args):  # --web, --export-html: the browser view (robot_sim.app.web_cmd)
             return web_cmd.run(args, config, session_from_config, CliError)
         if config.screenshot is not None:
-            write_screenshot(config)
+            output.write_screenshot(config)
             print(f"wrote {config.screenshot}")
             return 0
-        check_display()
+        output.check_display()
     except CliError as exc:
         message = " ".join(str(exc).split())
         print(f"{PROG}: error: {message}", file=sys.stderr)
@@ -81,5 +73,4 @@ def main(argv: Sequence[str] | None = None) -> int:
         # stdout at /dev/null so the interpreter's final flush cannot raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    return launch(config)
-
+    return output.launch(config)

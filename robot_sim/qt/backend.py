@@ -20,7 +20,8 @@ WAIT_SLICE_S = 0.05
 
 
 class WindowBackend:
-    """Opens a main window on ``session`` whose view is ``size`` = (width, height) pixels;
+    """Opens a main window on ``session`` whose view is ``size`` = (width, height) pixels
+    (wider or taller where the docks need more room, e.g. the DH table of a 7-joint arm);
     ``robot_arg`` names the robot in the chooser (default: the robot's name)."""
 
     realtime = True

@@ -1,13 +1,14 @@
 """How a viewer's arm moves, without Qt: kinematically (joints follow the desired values)
-or physically (a :class:`simulation.Simulation` driven by one of robot_sim/control/controllers.py's controllers).
+or physically (the physics loop's ``Simulation`` driven by one of the controllers of
+``robot_sim.control.controllers``).
 
 :class:`Motion` owns the mode (:data:`control.MOTION_MODES`), the gains and the
-simulation of one robot and its :class:`~robot_state.RobotState`.  In a physical mode the
+simulation of one robot and its :class:`~robot_sim.model.state.RobotState`.  In a physical mode the
 state's desired values (sliders, IK ghost, demo) are the controller's set point and the
 current values are simulated; the mouse can pull the endeffector with a spring
 (:meth:`Motion.start_pull`).  Simulated links rest on the world's obstacles and the
 floor (penalty contact with friction, ``collision.contact``).  A robot file without inertial data is simulated with
-``inertials.estimate_inertials`` and :attr:`Motion.estimated` says so.
+``robot_sim.model.estimate.estimate_inertials`` and :attr:`Motion.estimated` says so.
 
 Units: SI (rad, m, s, N, N·m); points in the world frame.
 """

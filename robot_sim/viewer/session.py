@@ -330,7 +330,7 @@ class ViewerSession:
             if shown:
                 self.motion.follow(fixed_pose(self.target_tf))
             else:
-                self._hold_here()
+                self.driver.base.rest(self)
         return shown
 
     def move_target(self, translation: np.ndarray | None = None, rpy: np.ndarray | None = None) -> bool:
@@ -378,26 +378,11 @@ class ViewerSession:
         then rests where it is: a task-space controller holds it there)."""
         if isinstance(self.driver, CircleDriver):
             self.driver = self.driver.inner
-            if self.task_space:
-                self._hold_here()
-            elif self.physical:
-                self.state.set_qd_des(np.zeros(self.robot.n_dofs))
-            else:
-                self.state.set_qd(np.zeros(self.robot.n_dofs))
+            self.driver.rest(self)
             self.update_kinematics()
             return False
-        start = (self.ghost if self.physical and not self.task_space else self.kin).endeff_tf.t()
-        self.driver = CircleDriver(DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0])),
-                                   self.driver.base)
-        if self.task_space:
-            self.driver.follow(self)
+        self.driver = CircleDriver.start(self)
         return True
-
-    def _hold_here(self) -> None:
-        """Task space: back to the state's desired joints, set where the arm is, at rest."""
-        self.motion.follow(None)
-        self.state.set_q_des(self.state.q())
-        self.state.set_qd_des(np.zeros(self.robot.n_dofs))
 
     # ---- pick demo (planned task, scrubbed or played) ----
     def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None,

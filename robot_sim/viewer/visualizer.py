@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.params import RobotParams
 from robot_sim.model.world import World
 from robot_sim.planning.trajectory import Trajectory, check_times
@@ -104,7 +105,8 @@ class Visualizer:
         backend (window, web) shows at each moment the latest sample due, sample k being due
         ``(t[k] - t[0]) / speed`` seconds of wall time after the start, and serves its
         events meanwhile: samples due faster than frames can be drawn are skipped, the last
-        one is always shown.  ValueError for bad arrays or speed (nothing is shown)."""
+        one is always shown, and a trail shown gets the tool positions of the skipped ones.
+        ValueError for bad arrays or speed (nothing is shown)."""
         if not (isinstance(speed, (int, float)) and math.isfinite(speed) and speed > 0):
             raise ValueError(f"speed: expected a positive finite number, got {str(speed)[:80]}")
         t, q = self._samples(trajectory)
@@ -113,10 +115,15 @@ class Visualizer:
                 self.display(qk)
             return
         due = (t - t[0]) / speed
-        start, k = time.monotonic(), 0
+        start, k, shown = time.monotonic(), 0, -1
         while True:
             k = max(k, int(np.searchsorted(due, time.monotonic() - start, side="right")) - 1)
+            trail = self.session.trail
+            if trail is not None and k > shown + 1:  # the samples skipped still mark the path
+                for point in forward_kinematics(self.robot, q[shown + 1:k])[:, :3, 3]:
+                    trail.add(point)
             self.display(q[k])
+            shown = k
             if k == len(t) - 1:
                 return
             self.backend.wait(max(0.0, due[k + 1] - (time.monotonic() - start)))

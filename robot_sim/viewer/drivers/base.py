@@ -34,6 +34,9 @@ class Driven(Protocol):
     def motion(self) -> Motion: ...
 
     @property
+    def physical(self) -> bool: ...
+
+    @property
     def task_space(self) -> bool: ...
 
     def update_kinematics(self) -> None: ...
@@ -56,6 +59,10 @@ class Driver:
 
     def set_q(self, session: Driven, q: np.ndarray) -> None:
         """Joints set by hand (sliders, Home, ``display(q)``), SI units (rad, m)."""
+        raise NotImplementedError
+
+    def rest(self, session: Driven) -> None:
+        """Bring the arm to rest where it is (a demo that moved it ended)."""
         raise NotImplementedError
 
     @property

@@ -58,6 +58,18 @@ class CircleDriver(OverDriver):
         super().__init__(inner)
         self.circle = circle
 
+    @classmethod
+    def start(cls, session: Driven) -> CircleDriver:
+        """A circle through the endeffector (the desired one under a joint-space
+        controller), over the session's motion driver; in task space the simulation
+        follows it at once."""
+        task_space = session.task_space
+        start = (session.ghost if session.physical and not task_space else session.kin).endeff_tf.t()
+        driver = cls(DemoCircle(center=start - np.array([vs.DEMO_CIRCLE_RADIUS_M, 0.0, 0.0])), session.driver.base)
+        if task_space:
+            driver.follow(session)
+        return driver
+
     def step(self, session: Driven, dt: float) -> None:
         """Advance the circle by ``dt`` s (qd from diff_ik_velocity with position feedback),
         then the simulation underneath, if any."""

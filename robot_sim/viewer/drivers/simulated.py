@@ -44,6 +44,15 @@ class SimulationDriver(Driver):
             session.target_tf = HomogeneousTransform(session.ghost.endeff_tf.mat.copy())
             session.ik_result = None
 
+    def rest(self, session: Driven) -> None:
+        """The set point at rest: in task space the controller holds the tool where it is
+        (back to the desired joints, set to the current ones), in joint space the desired
+        velocities are zeroed."""
+        if session.task_space:
+            self.motion.follow(None)
+            session.state.set_q_des(session.state.q())
+        session.state.set_qd_des(np.zeros(session.robot.n_dofs))
+
     def simulate(self, session: Driven, duration: float) -> None:
         """Simulate ``duration`` seconds at once (the command line's ``--duration``); with
         the session's trail on, in pieces of TRAIL_SAMPLE_S so the trail holds the path."""

@@ -40,3 +40,7 @@ class StillDriver(Driver):
         if session.target_tf is not None:
             session.target_tf = HomogeneousTransform(session.kin.endeff_tf.mat.copy())
             session.ik_result = None
+
+    def rest(self, session: Driven) -> None:
+        """Zero joint velocities."""
+        session.state.set_qd(np.zeros(session.robot.n_dofs))
