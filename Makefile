@@ -1,7 +1,7 @@
 # One-command set-up and test.  `make test` / `make run` / `make bench` create .venv,
 # install the project with its test extra and the system libraries the viewer and the
 # suite load (OSMesa for headless rendering, Xvfb and the xcb libraries of PyQt5's
-# wheel for the real window).  Every step is skipped when already done.
+# wheel for the real window, Debian's chromium for the browser view's tests).  Every step is skipped when already done.
 
 PYTHON ?= python3
 VENV := .venv
@@ -9,7 +9,8 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 SYSTEM_PKGS := libosmesa6 libgl1 xvfb xauth libxcb-icccm4 libxcb-image0 libxcb-keysyms1 \
 	libxcb-render-util0 libxcb-xinerama0 libxcb-xkb1 libxkbcommon-x11-0 libxcb-shape0 \
-	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3 fonts-dejavu-core
+	libxcb-randr0 libxcb-xfixes0 libfontconfig1 libdbus-1-3 fonts-dejavu-core \
+	chromium
 XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
 .PHONY: test test-full run bench pictures setup system-deps clean

@@ -88,6 +88,19 @@ def quaternion_from_rot(R: ArrayLike) -> FloatArray:
     return quat if quat[0] >= 0.0 else -quat
 
 
+def rot_from_quaternion(wxyz: ArrayLike) -> FloatArray:
+    """Rotation matrix (3, 3) of the quaternion (w, x, y, z), normalised first (the inverse
+    of :func:`quaternion_from_rot`).  ValueError for a zero or non-finite quaternion."""
+    q = np.asarray(wxyz, dtype=float).reshape(4)
+    norm = float(np.linalg.norm(q))
+    if not math.isfinite(norm) or norm == 0.0:
+        raise ValueError(f"quaternion: expected four finite numbers, not all zero, got {q.tolist()}")
+    w, x, y, z = q / norm
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
 def rot_from_angle_axis(angle: float, axis: ArrayLike) -> FloatArray:
     """Rotation (3, 3) of ``angle`` radians about ``axis`` (normalised here; Rodrigues)."""
     k = np.asarray(axis, dtype=float).reshape(3)

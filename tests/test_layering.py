@@ -32,17 +32,32 @@ ALLOWED = {
                "transforms"},
     "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
            "viewer", "transforms"},
+    # the browser view: graphics only through its GL-free geometry (GRAPHICS_GEOMETRY below)
+    "web": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+            "viewer", "transforms"},
     "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
-            "calibration", "graphics",
-            "viewer", "qt", "transforms"},
+            "calibration", "graphics", "viewer", "qt", "web", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
     "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
-              "planning", "calibration", "graphics", "viewer"},
+              "planning", "calibration", "graphics", "viewer", "web"},
     "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
-               "planning", "calibration"},
+               "planning", "calibration", "web"},
 }
+#: The graphics modules the browser view may import: geometry in NumPy, no GL.  Each
+#: reaches no GL module of graphics, directly or through another (checked below).
+GRAPHICS_GEOMETRY = {
+    "robot_sim.graphics.annotation_geometry", "robot_sim.graphics.collision_scene", "robot_sim.graphics.defs",
+    "robot_sim.graphics.floor_grid", "robot_sim.graphics.frame_axes", "robot_sim.graphics.looks",
+    "robot_sim.graphics.meshes", "robot_sim.graphics.placements", "robot_sim.graphics.robot_parts",
+    "robot_sim.graphics.solid", "robot_sim.graphics.task_scene", "robot_sim.graphics.themes",
+    "robot_sim.graphics.visuals", "robot_sim.graphics.scene", "robot_sim.graphics.camera",
+}
+#: Graphics modules that hold or load GL code.
+GRAPHICS_GL = {"robot_sim.graphics.gl", "robot_sim.graphics.buffers", "robot_sim.graphics.frame",
+               "robot_sim.graphics.shaders", "robot_sim.graphics.targets", "robot_sim.graphics.render",
+               "robot_sim.graphics.offscreen", "robot_sim.graphics.item", "robot_sim.graphics.font"}
 
 
 def module_name(path: Path) -> str:
@@ -94,6 +109,22 @@ def test_imports_respect_the_layers(module: str) -> None:
         elif own in FORBIDDEN_EXTERNAL.get(top, set()):
             problems.append(f"line {line}: {own} imports {top}")
     assert not problems, f"{MODULES[module]}: " + "; ".join(problems)
+
+
+def test_the_browser_view_uses_graphics_geometry_only() -> None:
+    """robot_sim.web imports graphics' GL-free geometry modules only, and those reach no GL
+    module (nor any drawable of graphics/items) through their own imports."""
+    used = {t for m, p in MODULES.items() if layer(m) == "web" for _, t in imports(p) if layer(t) == "graphics"}
+    assert used <= GRAPHICS_GEOMETRY, f"robot_sim.web imports graphics modules with GL: {sorted(used - GRAPHICS_GEOMETRY)}"
+    reached, todo = set(), list(GRAPHICS_GEOMETRY)
+    while todo:
+        module = todo.pop()
+        for _, target in imports(MODULES[module]):
+            if target in MODULES and target not in reached and layer(target) == "graphics":
+                reached.add(target)
+                todo.append(target)
+    gl = sorted(m for m in reached if m in GRAPHICS_GL or m.startswith("robot_sim.graphics.items"))
+    assert not gl, f"graphics' geometry modules reach GL code: {gl}"
 
 
 def test_the_checker_catches_a_violation(tmp_path: Path) -> None:

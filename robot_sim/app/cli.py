@@ -15,6 +15,7 @@ import re
 from pathlib import Path
 from typing import Sequence
 
+from robot_sim.app import web_cmd
 from robot_sim.control.controllers import PHYSICAL_MODES
 from robot_sim.graphics.looks import LOOKS
 from robot_sim.graphics.themes import DEFAULT_THEME, THEMES
@@ -113,6 +114,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--trail", action="store_true",
                         help="draw the endeffector's path (key B): in the window, in --record pictures, and in "
                              "a --screenshot of what --motion simulated for --duration")
+    web_cmd.add_arguments(parser)
     return parser
 
 

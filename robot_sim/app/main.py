@@ -18,7 +18,8 @@ from typing import Sequence
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from robot_sim.app.cli import PROG, CliError, build_parser, parse_args  # noqa: E402
-from robot_sim.app.prepare import Config, config_from_args  # noqa: E402
+from robot_sim.app import web_cmd  # noqa: E402
+from robot_sim.app.prepare import Config, config_from_args, session_from_config  # noqa: E402
 
 __all__ = ["Config", "build_parser", "config_from_args", "launch", "main"]
 
@@ -60,6 +61,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             frames, video = output.write_recording(config)
             print(f"wrote {len(frames)} frames to {config.record}" + (f" and {video}" if video else ""))
             return 0
+        if web_cmd.wanted(args):  # --web, --export-html: the browser view (robot_sim.app.web_cmd)
+            return web_cmd.run(args, config, session_from_config, CliError)
         if config.screenshot is not None:
             output.write_screenshot(config)
             print(f"wrote {config.screenshot}")

@@ -21,9 +21,12 @@ Modules, one job each:
   arrows; ``vector_clip``: which arrows are drawn, shortened to the view;
 * ``shaders``: the GLSL programs; ``buffers``: vertex buffers; ``targets``: the
   multisampled target and the shadow map; ``lighting``: lights and the shadow's view;
-* ``meshes``: unit meshes tessellated once; ``robot_parts``: the robot as its DH
-  segments and joints, part sizes; ``solid``: the solid look; ``visuals``: the robot's
-  own shapes as drawable pieces; ``arrows``: arrow placements;
+* ``meshes``: unit meshes tessellated once; ``placements``: where copies of them go;
+  ``robot_parts``: the robot as its DH segments and joints, part sizes; ``solid``: the
+  solid look; ``visuals``: the robot's own shapes as drawable pieces; ``arrows``: arrow
+  placements; ``frame_axes``, ``annotation_geometry``, ``floor_grid``: frames, the DH
+  annotation and the floor as geometry (these and the modules above draw nothing, so the
+  browser view (robot_sim.web) uses them too);
 * ``font``: the label font (FreeType glyph atlas); ``offscreen``: :class:`OffscreenRenderer`
   (OSMesa) and :func:`save_png`; ``gl``: the lazily imported PyOpenGL and platform choice.
 
@@ -37,12 +40,12 @@ from robot_sim.graphics.font import text_size
 from robot_sim.graphics.framing import annotation_points, visible_points
 from robot_sim.graphics.gl import require_osmesa_platform
 from robot_sim.graphics.item import Item
-from robot_sim.graphics.items.annotation import Annotation, dh_annotation
+from robot_sim.graphics.annotation_geometry import Annotation, dh_annotation
 from robot_sim.graphics.items.color_scale import ColorScale, color_scale_layout
 from robot_sim.graphics.label_layout import LabelPlacement, place_labels
 from robot_sim.graphics.workspace import WorkspaceCloud, colormap
-from robot_sim.graphics.items.floor import FloorGrid
-from robot_sim.graphics.items.frames import axis_lengths, frame_labels, frames_and_names
+from robot_sim.graphics.floor_grid import FloorGrid
+from robot_sim.graphics.frame_axes import axis_lengths, frame_labels, frames_and_names
 from robot_sim.graphics.looks import LOOKS, look_for, looks_of
 from robot_sim.graphics.offscreen import OffscreenRenderer, save_png
 from robot_sim.graphics.render import View, item_classes

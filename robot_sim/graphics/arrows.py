@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import along
+from robot_sim.graphics.placements import along
 
 
 def arrow_placements(origins: ArrayLike, vecs: ArrayLike, shaft_radius: ArrayLike, head_radius: ArrayLike,

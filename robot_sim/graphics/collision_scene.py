@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import spheres
+from robot_sim.graphics.placements import spheres
 from robot_sim.graphics.visuals import shape_pieces
 from robot_sim.model.shapes import HalfSpace, Mesh, Shape
 

@@ -6,13 +6,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.items.annotation import dh_annotation
-from robot_sim.graphics.items.frames import frame_poses
-from robot_sim.graphics.items.robot import posed_parts
+from robot_sim.graphics.annotation_geometry import dh_annotation
+from robot_sim.graphics.frame_axes import frame_poses
 from robot_sim.graphics.task_scene import task_points
 from robot_sim.graphics.looks import look_for
 from robot_sim.graphics.robot_parts import part_corners, robot_look
 from robot_sim.graphics.scene import GraphicsOptions, Scene
+from robot_sim.graphics.solid import posed_parts
 from robot_sim.graphics.visuals import piece_corners, visual_pieces
 
 

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import along, spheres
+from robot_sim.graphics.placements import along, spheres
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 
@@ -260,19 +260,24 @@ def robot_parts(robot: RobotParams, frames: NDArray[np.float64], endeff: NDArray
     ] + ([] if link_com is None else [Part("sphere", gd.COM_COLOR, spheres(link_com[1:], look.com_radius))])
 
 
-def differing(parts: list[Part], reference: list[Part], tol: float = gd.GHOST_TOLERANCE) -> list[Part]:
-    """``parts`` without the copies that ``reference`` (the same robot's parts in another
-    pose, in the same order) has at the same placement within ``tol``: what a ghost
-    shows where it differs from the arm."""
+def differing_masks(parts: list[Part], reference: list[Part], tol: float = gd.GHOST_TOLERANCE) -> list[NDArray[np.bool_]]:
+    """Per part of ``parts``, which copies (N,) ``reference`` (the same robot's parts in
+    another pose, in the same order) has nowhere within ``tol`` of the same placement."""
     out = []
     for part, ref in zip(parts, reference):
         if len(part.placements) and len(ref.placements):
             gap = np.abs(part.placements[:, None, :3, :] - ref.placements[None, :, :3, :]).max(axis=(2, 3))
-            keep = gap.min(axis=1) > tol
+            out.append(gap.min(axis=1) > tol)
         else:
-            keep = np.ones(len(part.placements), dtype=bool)
-        out.append(Part(part.mesh, part.color, part.placements[keep]))
+            out.append(np.ones(len(part.placements), dtype=bool))
     return out
+
+
+def differing(parts: list[Part], reference: list[Part], tol: float = gd.GHOST_TOLERANCE) -> list[Part]:
+    """``parts`` without the copies that ``reference`` has at the same placement within
+    ``tol`` (:func:`differing_masks`): what a ghost shows where it differs from the arm."""
+    return [Part(part.mesh, part.color, part.placements[keep])
+            for part, keep in zip(parts, differing_masks(parts, reference, tol))]
 
 
 # corners of the unit meshes' bounding boxes (see robot_sim.graphics.meshes): z from 0 to 1 for the

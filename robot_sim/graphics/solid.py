@@ -13,8 +13,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.gl import along, spheres
+from robot_sim.graphics.placements import along, spheres
 from robot_sim.graphics.robot_parts import Part, dh_segments, robot_look, robot_parts
+from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 
 
@@ -57,3 +58,11 @@ def solid_parts(robot: RobotParams, frames: NDArray[np.float64], endeff: NDArray
         Part("sphere", gd.ENDEFF_COLOR, endeff_sphere.placements),
     ]
     return parts
+
+
+def posed_parts(kin: Kinematics, look: str, show_com: bool) -> list[Part]:
+    """The parts of the arm posed by ``kin`` in ``look`` ("solid", else the DH look),
+    with the centres of mass when ``show_com`` (DH look)."""
+    if look == "solid":
+        return solid_parts(kin.robot, kin.frames, kin.endeff_tf.mat)
+    return robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if show_com else None)

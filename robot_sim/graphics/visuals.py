@@ -4,7 +4,7 @@ Each piece is drawn at ``frames[piece.frame] @ piece.local``: frame 0 for the ba
 link's shapes (``robot.base_visuals``), frame i + 1 for ``robot.visuals[i]`` (the link
 moved by joint i + 1, in the robot's own convention).  Primitives become unit meshes
 placed and scaled by ``local``; a mesh keeps its vertices and faces, and
-:func:`mesh_buffers` makes its buffers with smooth (area-weighted) vertex normals.
+:func:`vertex_normals` gives it smooth (area-weighted) vertex normals.
 Metres.
 """
 from __future__ import annotations
@@ -16,7 +16,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
-from robot_sim.graphics.buffers import StaticMesh
 from robot_sim.graphics.meshes import CUBE_CORNERS
 from robot_sim.model.params import RobotParams
 from robot_sim.model.shapes import Box, Capsule, Cylinder, Mesh, Sphere
@@ -48,13 +47,6 @@ class VisualPiece:
         if self.unit in ("joint", "cylinder"):
             return unit_box * (1.0, 1.0, 0.5, 1.0) + (0.0, 0.0, 0.5, 0.0)
         return unit_box * (0.5, 0.5, 0.5, 1.0) if self.unit == "box" else unit_box
-
-
-def mesh_buffers(piece: VisualPiece) -> StaticMesh:
-    """The (not yet uploaded) buffers of a mesh piece, with smooth vertex normals."""
-    if piece.vertices is None or piece.faces is None:
-        raise ValueError(f"mesh_buffers: piece of frame {piece.frame} is the unit mesh {piece.unit!r}, not a mesh")
-    return StaticMesh(piece.vertices, vertex_normals(piece.vertices, piece.faces), piece.faces)
 
 
 def vertex_normals(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> NDArray[np.float64]:

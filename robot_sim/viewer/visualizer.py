@@ -154,6 +154,12 @@ class Visualizer:
         """Close the backend (window, server, GL context); harmless twice."""
         self.backend.close()
 
+    def _repr_html_(self) -> str | None:
+        """Jupyter shows the backend inline when it can (the web backend: its live page;
+        ``viz.embed()`` gives a static copy that stays in a saved notebook)."""
+        inline = getattr(self.backend, "_repr_html_", None)
+        return None if inline is None else inline()
+
     def __enter__(self) -> Visualizer:
         return self
 

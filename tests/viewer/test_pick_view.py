@@ -196,7 +196,7 @@ def test_a_ghost_during_the_pick_task_keeps_every_part_but_the_sphere(renderer):
     pose draws all its parts except its own sphere (it used to be compared with the arm's
     shorter part list, out of step, and lose parts)."""
     from robot_sim.graphics.items.ghost import GhostItem
-    from robot_sim.graphics.items.robot import posed_parts
+    from robot_sim.graphics.solid import posed_parts
     from robot_sim.kinematics import Kinematics
     from robot_sim.model.state import RobotState
 

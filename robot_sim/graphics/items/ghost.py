@@ -7,7 +7,7 @@ from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Frame
 from robot_sim.graphics.gl import GL
 from robot_sim.graphics.item import Item
-from robot_sim.graphics.items.robot import posed_parts
+from robot_sim.graphics.solid import posed_parts
 from robot_sim.graphics.robot_parts import Part, differing
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.looks import look_for

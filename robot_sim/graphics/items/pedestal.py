@@ -8,7 +8,7 @@ from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Frame
-from robot_sim.graphics.gl import along
+from robot_sim.graphics.placements import along
 from robot_sim.graphics.item import Item
 from robot_sim.graphics.robot_parts import robot_look
 from robot_sim.graphics.scene import GraphicsOptions, Scene

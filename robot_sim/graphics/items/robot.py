@@ -10,19 +10,11 @@ from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Drawing, Frame
 from robot_sim.graphics.gl import GL
 from robot_sim.graphics.item import Item
-from robot_sim.graphics.robot_parts import Part, part_corners, robot_parts
+from robot_sim.graphics.robot_parts import Part, part_corners
 from robot_sim.graphics.scene import GraphicsOptions, Scene
-from robot_sim.graphics.solid import solid_parts
+from robot_sim.graphics.solid import posed_parts
 from robot_sim.graphics.looks import look_for
 from robot_sim.kinematics import Kinematics
-
-
-def posed_parts(kin: Kinematics, look: str, show_com: bool) -> list[Part]:
-    """The parts of the arm posed by ``kin`` in ``look`` ("solid", else the DH look),
-    with the centres of mass when ``show_com`` (DH look)."""
-    if look == "solid":
-        return solid_parts(kin.robot, kin.frames, kin.endeff_tf.mat)
-    return robot_parts(kin.robot, kin.frames, kin.endeff_tf.mat, kin.link_com if show_com else None)
 
 
 class RobotItem(Item):

@@ -13,9 +13,16 @@ from robot_sim.graphics.item import Item
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.looks import look_for
 from robot_sim.graphics.buffers import StaticMesh
-from robot_sim.graphics.visuals import VisualPiece, mesh_buffers, piece_corners, visual_pieces
+from robot_sim.graphics.visuals import VisualPiece, piece_corners, vertex_normals, visual_pieces
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
+
+
+def mesh_buffers(piece: VisualPiece) -> StaticMesh:
+    """The (not yet uploaded) buffers of a mesh piece, with smooth vertex normals."""
+    if piece.vertices is None or piece.faces is None:
+        raise ValueError(f"mesh_buffers: piece of frame {piece.frame} is the unit mesh {piece.unit!r}, not a mesh")
+    return StaticMesh(piece.vertices, vertex_normals(piece.vertices, piece.faces), piece.faces)
 
 
 class RobotMeshItem(Item):

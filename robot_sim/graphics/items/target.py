@@ -7,7 +7,7 @@ from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.frame import Frame
-from robot_sim.graphics.gl import spheres
+from robot_sim.graphics.placements import spheres
 from robot_sim.graphics.item import Item, around
 from robot_sim.graphics.items.frames import FRAME_BOUND_MARGIN, draw_axes
 from robot_sim.graphics.robot_parts import robot_reach
