@@ -15,6 +15,7 @@ from robot_sim.io.world_file import WorldDefinitionError, load_world
 from robot_sim.model.params import RobotDefinitionError
 from robot_sim.planning.retime import retime
 from robot_sim.planning.task_file import TaskDefinitionError, load_task
+from paths import ROOT
 
 TASK = TASK_TEMPLATE.format(x=0.4)
 ROBOT = 'name = "r"\nunits = "rad"\n[[joints]]\ntype = "revolute"\na = 0.5\nalpha = 0.0\nd = 0.0\ntheta = 0.0\n'
@@ -156,7 +157,7 @@ def test_the_pick_tracking_figures_name_the_script_that_measures_them():
     import re
     from pathlib import Path
 
-    root = Path(__file__).resolve().parents[1]
+    root = ROOT
     page = (root / "docs" / "trajectories.md").read_text(encoding="utf-8")
     (script,) = re.findall(r"Measured with `([^`]+)`", page)
     source = (root / script).read_text(encoding="utf-8")

@@ -22,6 +22,7 @@ from robot_sim.viewer.session import ViewerSession
 from robot_sim.web.parts import instance_poses, unit_mesh
 from robot_sim.web.scene import WebScene
 from robot_sim.web.server import WebServerError, exposure_warning, is_loopback, start_server, stop_server
+from paths import ROOT
 
 
 @pytest.fixture()
@@ -253,7 +254,7 @@ def test_what_a_page_sends_is_checked_before_use(tmp_path: Path) -> None:
     viewer = WebViewer(ViewerSession(robot), "puma560", host="127.0.0.1", port=None)
     panel = viewer.panel
     secret = tmp_path / "robot.toml"
-    secret.write_text((Path(__file__).parents[1] / "robots" / "ur5.toml").read_text())
+    secret.write_text((ROOT / "robots" / "ur5.toml").read_text())
     try:
         for value in (str(secret), "../robots/ur5", "ur5.toml"):
             panel._robot_chosen(SimpleNamespace(client=object(), target=SimpleNamespace(value=value)))

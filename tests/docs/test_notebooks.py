@@ -6,8 +6,8 @@ import os
 from pathlib import Path
 
 import pytest
+from paths import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "docs" / "notebooks").glob("*.ipynb"))
 #: Seconds one cell may take (planning and the first numba compile included).
 CELL_TIMEOUT_S = 600
