@@ -15,26 +15,27 @@ ALLOWED = {
     "transforms": set(),
     "model": {"transforms"},
     "io": {"model", "transforms"},
-    "kinematics": {"model", "transforms"},
+    "kinematics": {"model", "transforms", "ik"},
+    "ik": {"model", "transforms", "jit"},  # analytic IK: never kinematics (which calls it), collision or above
     "jit": set(),  # numba's settings, shared by the compiled kernels
     "dynamics_compiled": {"jit"},  # numba kernels of dynamics: numpy, numba and their settings
-    "dynamics": {"model", "kinematics", "dynamics_compiled", "transforms"},
-    "collision": {"model", "io", "kinematics", "dynamics", "jit", "transforms"},
-    "control": {"model", "io", "kinematics", "dynamics", "dynamics_compiled", "jit", "collision", "planning", "transforms"},
-    "planning": {"model", "io", "kinematics", "dynamics", "collision", "transforms"},
-    "graphics": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "transforms"},
-    "viewer": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics",
+    "dynamics": {"model", "kinematics", "ik", "dynamics_compiled", "transforms"},
+    "collision": {"model", "io", "kinematics", "ik", "dynamics", "jit", "transforms"},
+    "control": {"model", "io", "kinematics", "ik", "dynamics", "dynamics_compiled", "jit", "collision", "planning", "transforms"},
+    "planning": {"model", "io", "kinematics", "ik", "dynamics", "collision", "transforms"},
+    "graphics": {"model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning", "transforms"},
+    "viewer": {"model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning", "graphics",
                "transforms"},
-    "qt": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
+    "qt": {"model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning", "graphics", "viewer",
            "transforms"},
-    "app": {"model", "io", "kinematics", "dynamics", "collision", "control", "planning", "graphics", "viewer",
+    "app": {"model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning", "graphics", "viewer",
             "qt", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
-    "PyQt5": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning",
+    "PyQt5": {"transforms", "model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning",
               "graphics", "viewer"},
-    "OpenGL": {"transforms", "model", "io", "kinematics", "dynamics", "collision", "control", "planning"},
+    "OpenGL": {"transforms", "model", "io", "kinematics", "ik", "dynamics", "collision", "control", "planning"},
 }
 
 

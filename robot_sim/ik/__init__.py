@@ -1,0 +1,3 @@
+"""Analytic inverse kinematics of DH arms: the closed-form family read from the joint
+axes (:func:`ik_family`) and every solution of a pose or a batch of poses
+(:func:`ik_solutions`).  Imports only ``model``, ``transforms`` and ``jit``."""
