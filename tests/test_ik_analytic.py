@@ -101,7 +101,7 @@ def test_siciliano_anthropomorphic_arm_has_four_arm_and_two_wrist_postures() -> 
 
 def test_puma_has_eight_named_postures() -> None:
     arm = robot("puma560")
-    q = np.radians([20.0, 60.0, -30.0, 40.0, 50.0, 10.0])
+    q = np.radians([20.0, 30.0, -100.0, 40.0, 50.0, 10.0])
     sols = ik_solutions(arm, forward_kinematics(arm, q), within_limits=False)
     assert len(sols) == 8 and len(set(sols.branch)) == 8 and sols.exact.all()
 

@@ -60,12 +60,12 @@ def stanford_like(rng: np.random.Generator) -> RobotParams:
     a = np.zeros(6)
     d = rng.uniform(0.05, 0.4, 6)
     alpha = np.array([_twist(rng) for _ in range(6)])
-    d[1] = d[4] = 0.0
-    d[2] = 0.0
+    d[1] = d[2] = d[4] = 0.0
     jtype = np.array([0, 0, 1, 0, 0, 0])
     return RobotParams.from_arrays("random RRP", a, alpha, d, rng.uniform(-np.pi, np.pi, 6), jtype,
                                    q_min=np.r_[np.full(2, -np.pi), 0.2, np.full(3, -np.pi)],
-                                   q_max=np.r_[np.full(2, np.pi), 0.9, np.full(3, np.pi)], **_placed(rng))
+                                   q_max=np.r_[np.full(2, np.pi), 0.9, np.full(3, np.pi)],
+                                   q_home=[0.0, 0.0, 0.5, 0.0, 0.0, 0.0], **_placed(rng))
 
 
 def position_arm(rng: np.random.Generator) -> RobotParams:

@@ -77,9 +77,11 @@ def wrist(H: np.ndarray, q: np.ndarray, rw6: tuple, rwx: tuple, x6: tuple, q0: n
 
 @numba.njit(**JIT)
 def wrist_bit(H: np.ndarray, q4: float, q5: float) -> int:
-    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 < 0 (the wrist's two postures differ in sign)."""
+    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0: the wrist's two postures differ in
+    that sign, and Siciliano's first wrist solution (sin θ5 > 0 on his anthropomorphic arm
+    with spherical wrist) is the one not flipped."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
-    return WRIST_FLIPPED if dot(cross(h3, rot(h3, q4, h4)), rot(h3, q4, rot(h4, q5, h5))) < 0.0 else 0
+    return WRIST_FLIPPED if dot(cross(h3, rot(h3, q4, h4)), rot(h3, q4, rot(h4, q5, h5))) > 0.0 else 0
 
 
 @numba.njit(**JIT)

@@ -69,7 +69,7 @@ def _poses(T: ArrayLike) -> tuple[FloatArray, bool]:
     if arr.shape[0] > MAX_POSES:
         raise ValueError(f"T holds {arr.shape[0]} poses; at most {MAX_POSES} per call")
     finite = np.isfinite(arr).all(axis=(1, 2))
-    R = arr[:, :3, :3]
+    R = np.where(finite[:, None, None], arr[:, :3, :3], np.eye(3))  # (NaN is reported below)
     gram = np.einsum("nki,nkj->nij", R, R) - np.eye(3)
     rigid = finite & (np.abs(gram).max(axis=(1, 2), initial=0.0) <= RIGID_TOL)
     rigid &= np.abs(np.linalg.det(R) - 1.0) <= RIGID_TOL
