@@ -1026,6 +1026,14 @@ def solve_ik(
     else:
         lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
     problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
+    from robot_sim.ik.nearest import answers, nearest_exact  # closed form first, where the arm has one
+
+    if answers(robot, position_only):
+        rejects = None if checker is None else checker.in_collision
+        q_exact = nearest_exact(robot, tmat, q, respect_limits, rejects)
+        if q_exact is not None and problem.converged(exact := problem.evaluate(q_exact)):
+            return IKResult(q_exact, True, 0, 0, exact.pos_err, exact.rot_err, position_only,
+                            message + "analytic: the exact solution nearest to q0")
     rng = np.random.default_rng(seed)
     distance = float(np.linalg.norm(tmat[:3, 3] - robot.base_tf.mat[:3, 3]))
     if respect_limits and distance > robot.reach + tol_pos:  # no configuration gets there: one descent toward it

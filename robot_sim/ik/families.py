@@ -185,19 +185,3 @@ def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.
         code[k] = posture_bits(H, P, row(A, 6), out[k], pw)
     return n
 
-
-@numba.njit(**JIT)
-def solve_raw(kind: int, case: int, idx: np.ndarray, H: np.ndarray, P: np.ndarray, rev: np.ndarray,
-              M: np.ndarray, A: np.ndarray, Ts: np.ndarray, q0: np.ndarray, out: np.ndarray,
-              code: np.ndarray, count: np.ndarray) -> None:
-    """Every branch of every pose Ts[i] into out[i], code[i]; count[i] how many."""
-    for i in range(Ts.shape[0]):
-        T = Ts[i]
-        if kind == SPHERICAL_WRIST:
-            count[i] = spherical_wrist(case, H, P, rev, A, T, q0, out[i], code[i])
-        elif kind == THREE_PARALLEL:
-            count[i] = three_parallel(H, P, M, A, T, q0, out[i], code[i])
-        elif kind == PARALLEL_AXES:
-            count[i] = parallel_axes(idx, H, P, A, T, q0, out[i], code[i])
-        else:
-            count[i] = position_only(case, H, P, A, T, q0, out[i], code[i])

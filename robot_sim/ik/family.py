@@ -6,7 +6,10 @@ kept per robot (weakly, so it goes with the robot) together with what the solver
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
 
 from robot_sim.ik.classify import ARM_CASES, Plan, plan
 from robot_sim.ik.families import PARALLEL_AXES, POSITION_ONLY, SPHERICAL_WRIST, THREE_PARALLEL
@@ -64,6 +67,8 @@ class Solver:
     plan: Plan | None
     family: IKFamily
     size: float
+    names: NDArray[np.str_]  # branch number -> name, and '' (index -1) for padding
+    prepared: dict = field(default_factory=dict)  # plan -> chain, constant rows, joint order
 
 
 _SOLVERS: "weakref.WeakKeyDictionary[RobotParams, Solver]" = weakref.WeakKeyDictionary()
@@ -106,7 +111,7 @@ def solver(robot: RobotParams) -> Solver:
         family = IKFamily(KIND_NAMES[p.kind], robot.n_dofs, True, ARM_CASES[p.case] if p.kind in
                           (SPHERICAL_WRIST, POSITION_ONLY) else "", p.reversed, p.free, task,
                           BRANCHES[p.kind], _postures(p))
-    found = Solver(S, p, family, size)
+    found = Solver(S, p, family, size, np.array((family.postures or tuple(f"branch {b}" for b in range(8))) + ("",)))
     _SOLVERS[robot] = found
     return found
 

@@ -11,10 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.classify import Plan, aux_rows, plan
-from robot_sim.ik.families import solve_raw
-from robot_sim.ik.family import BRANCHES, IKFamily, Solver, solver
-from robot_sim.ik.finish import expand, screen
-from robot_sim.ik.geometry import Screws
+from robot_sim.ik.family import IKFamily, Solver, solver
+from robot_sim.ik.pipeline import first_bad_pose, pack, run
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import check_joint_vector
@@ -66,18 +64,14 @@ def _poses(T: ArrayLike) -> tuple[FloatArray, bool]:
     if arr.shape[-2:] != (4, 4) or arr.ndim not in (2, 3):
         raise ValueError(f"T must be a 4x4 transform or an (N, 4, 4) array of them, got shape {arr.shape}")
     arr = np.ascontiguousarray(arr.reshape(-1, 4, 4))
+    if not arr.flags.writeable:
+        arr = arr.copy()
     if arr.shape[0] > MAX_POSES:
         raise ValueError(f"T holds {arr.shape[0]} poses; at most {MAX_POSES} per call")
-    finite = np.isfinite(arr).all(axis=(1, 2))
-    R = np.where(finite[:, None, None], arr[:, :3, :3], np.eye(3))  # (NaN is reported below)
-    gram = np.einsum("nki,nkj->nij", R, R) - np.eye(3)
-    rigid = finite & (np.abs(gram).max(axis=(1, 2), initial=0.0) <= RIGID_TOL)
-    rigid &= np.abs(np.linalg.det(R) - 1.0) <= RIGID_TOL
-    rigid &= (np.abs(arr[:, 3] - [0.0, 0.0, 0.0, 1.0]) <= RIGID_TOL).all(axis=1)
-    if not rigid.all():
-        bad = int(np.flatnonzero(~rigid)[0])
+    bad = first_bad_pose(arr, RIGID_TOL)
+    if bad >= 0:
         where = "T" if single else f"T[{bad}]"
-        why = "holds NaN or infinite values" if not finite[bad] else (
+        why = "holds NaN or infinite values" if not np.isfinite(arr[bad]).all() else (
             "is not a rigid transform (needs an orthonormal rotation with det +1 and bottom row [0 0 0 1])")
         raise ValueError(f"{where} {why}, got {clip_repr(arr[bad].tolist())}")
     return arr, single
@@ -111,30 +105,29 @@ def _free_values(robot: RobotParams, sv: Solver, q0: FloatArray, free_joint: obj
     return p, np.array([q0[p.free]]) if p is not None and p.free is not None else np.zeros(1)
 
 
-def _raw(p: Plan, S: Screws, size: float, Ts: FloatArray, q0: FloatArray, value: float) -> tuple:
-    """Raw branches of the whole chain (N, K, n), codes and counts for one free value."""
-    n = S.n
-    keep = np.arange(n)
-    if p.free is not None:
-        S = S.folded(p.free, value)
-        keep = keep[keep != p.free]
-    if p.reversed:
-        S = S.reversed()
-        keep = keep[::-1]
-        Ts = np.linalg.inv(Ts)
-    A = aux_rows(p, S, size)
-    m = S.n
-    K = BRANCHES[p.kind]
-    out = np.full((Ts.shape[0], K, m), np.nan)
-    code = np.zeros((Ts.shape[0], K), dtype=np.int64)
-    count = np.zeros(Ts.shape[0], dtype=np.int64)
-    solve_raw(p.kind, p.case, np.array(p.idx, dtype=np.int64), S.H, S.P, S.revolute, S.M, A,
-              np.ascontiguousarray(Ts), np.ascontiguousarray(q0[keep]), out, code, count)
-    full = np.empty((Ts.shape[0], K, n))
-    full[..., keep] = out
-    if p.free is not None:
-        full[..., p.free] = value
-    return full, code, count
+def _packed(sv: Solver, p: Plan, values: FloatArray, robot: RobotParams) -> tuple[FloatArray, NDArray[np.int64]]:
+    """The packed rows of :func:`robot_sim.ik.pipeline.run` for each free value: the chain
+    the kernel solves (the free joint folded at the value, reversed if the plan says so),
+    its constant rows and joint order; kept per solver when nothing is folded."""
+    key = (p.kind, p.case, p.idx, p.reversed, p.free)
+    if p.free is None and key in sv.prepared:
+        return sv.prepared[key]
+    rows, ints = [], None
+    for value in values:
+        S = sv.screws
+        keep = np.arange(S.n)
+        if p.free is not None:
+            S = S.folded(p.free, float(value))
+            keep = keep[keep != p.free]
+        if p.reversed:
+            S = S.reversed()
+            keep = keep[::-1].copy()
+        row, ints = pack(p, S, aux_rows(p, S, sv.size), keep, sv.screws, robot.q_min, robot.q_max)
+        rows.append(row)
+    found = (np.stack(rows), ints)
+    if p.free is None:
+        sv.prepared[key] = found
+    return found
 
 
 def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, *, within_limits: bool = True,
@@ -161,48 +154,25 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     if not isinstance(robot, RobotParams):
         raise ValueError(f"ik_solutions needs a RobotParams, got {type(robot).__name__}")
     Ts, single = _poses(T)
-    q0 = check_joint_vector(robot.q_home if q0 is None else q0, robot.n_dofs, "q0")
+    # writable copies: numba compiles read-only arrays (the robot's) as another signature
+    q0 = np.array(robot.q_home if q0 is None else check_joint_vector(q0, robot.n_dofs, "q0"))
     if q0.ndim != 1:
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q0.shape}")
     sv = solver(robot)
     p, values = _free_values(robot, sv, q0, free_joint, free_values)
     if p is None:
         raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
-    parts = [_raw(p, sv.screws, sv.size, Ts, q0, v) for v in values]
-    raw = np.concatenate([r[0] for r in parts], axis=1) if len(parts) > 1 else parts[0][0]
-    code = np.concatenate([r[1] for r in parts], axis=1) if len(parts) > 1 else parts[0][1]
-    if len(parts) > 1:  # the branches of each free value, packed ahead of the NaN rows
-        count = np.sum([r[2] for r in parts], axis=0)
-        order = np.argsort(np.isnan(raw[..., 0]), axis=1, kind="stable")
-        raw = np.take_along_axis(raw, order[..., None], axis=1)
-        code = np.take_along_axis(code, order, axis=1)
-    else:
-        count = parts[0][2]
-    S = sv.screws
-    lo, hi = np.asarray(robot.q_min), np.asarray(robot.q_max)
-    exact = np.zeros(code.shape, dtype=bool)
-    total = np.zeros(Ts.shape[0], dtype=np.int64)
-    within = bool(within_limits)
-    screen(raw, code, count, exact, total, S.H, S.P, S.revolute, S.M, Ts, q0, lo, hi, within,
-           sv.family.task != "position", EXACT_TOL * max(sv.size, 1.0))
-    K = int(total.max(initial=0))
-    if Ts.shape[0] * K * robot.n_dofs > MAX_VALUES:
-        raise ValueError(f"the solutions would hold {Ts.shape[0] * K * robot.n_dofs} joint values (at most "
-                         f"{MAX_VALUES}): solve fewer poses at a time, or with within_limits=False")
-    out = np.full((Ts.shape[0], K, robot.n_dofs), np.nan)
-    out_code = np.full((Ts.shape[0], K), -1, dtype=np.int64)
-    out_exact = np.zeros((Ts.shape[0], K), dtype=bool)
-    out_count = np.zeros(Ts.shape[0], dtype=np.int64)
-    expand(raw, code, count, exact, q0, lo, hi, S.revolute, within, out, out_code, out_exact, out_count)
-    names = np.array(branch_names(sv.family) + ("",))
+    gf, gi = _packed(sv, p, values, robot)
+    out, out_code, out_exact, out_count, needed = run(
+        gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position", EXACT_TOL * max(sv.size, 1.0),
+        MAX_VALUES)
+    if needed > MAX_VALUES:
+        raise ValueError(f"the solutions would hold {needed} joint values (at most {MAX_VALUES}): "
+                         "solve fewer poses at a time, or with within_limits=False")
+    names = sv.names
     if single:
         k = int(out_count[0])
         return IKSolutions(out[0, :k], tuple(names[out_code[0, :k]].tolist()), out_exact[0, :k], k,
                            out_code[0, :k], sv.family)
     return IKSolutions(out, names[out_code], out_exact, out_count, out_code, sv.family)
-
-
-def branch_names(family: IKFamily) -> tuple[str, ...]:
-    """Name of each branch number: the family's posture names, else "branch b"."""
-    return family.postures or tuple(f"branch {b}" for b in range(8))
 
