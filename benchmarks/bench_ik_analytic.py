@@ -70,31 +70,26 @@ def bench_ik_analytic(table, median_iqr, ms, us) -> None:  # noqa: ANN001
     for name in ONE_POSE:
         robot = load_robot(name)
         targets = forward_kinematics(robot, random_configurations(robot, 60, rng))
-        fast, slow, ok = [], [], 0
-        for t in targets:  # alternated: analytic, then the numerical path on the same target
-            start = time.perf_counter()
-            ok += solve_ik(robot, t).success
-            fast.append(time.perf_counter() - start)
-            with numerical_only():
-                start = time.perf_counter()
-                solve_ik(robot, t)
-                slow.append(time.perf_counter() - start)
-        f, fi = median_iqr(fast)
-        s, _ = median_iqr(slow)
+        ok = sum(solve_ik(robot, t).success for t in targets)
+        (f, fi), (s, _) = alternated([lambda t=t: solve_ik(robot, t) for t in targets], median_iqr)
         table.add(f"solve_ik {name}: analytic (success {100 * ok / len(targets):.0f} %) vs numerical path",
                   us(f), us(fi), f"numerical {ms(s)}", f"{s / f:.0f}×", "≥ 50×")
     robot = load_robot("ur5")
     spec = default_task(robot)
+    (f, fi), (s, _) = alternated([lambda: plan_pick(robot, spec)] * 3, median_iqr)
+    table.add("default UR5 pick task planned: analytic IK vs numerical", ms(f), ms(fi), f"numerical {ms(s)}",
+              f"{s / f:.1f}×", "≥ 4×")
+
+
+def alternated(calls: list[Callable[[], object]], median_iqr) -> tuple:  # noqa: ANN001
+    """(median, IQR) of each call with the closed form, then without, alternated per call."""
     fast, slow = [], []
-    for _ in range(3):
+    for call in calls:
         start = time.perf_counter()
-        plan_pick(robot, spec)
+        call()
         fast.append(time.perf_counter() - start)
         with numerical_only():
             start = time.perf_counter()
-            plan_pick(robot, spec)
+            call()
             slow.append(time.perf_counter() - start)
-    f, fi = median_iqr(fast)
-    s, _ = median_iqr(slow)
-    table.add("default UR5 pick task planned: analytic IK vs numerical", ms(f), ms(fi), f"numerical {ms(s)}",
-              f"{s / f:.1f}×", "≥ 4×")
+    return median_iqr(fast), median_iqr(slow)

@@ -7,7 +7,7 @@ residuals, agreement of the solution sets and time per pose, alternated in one r
 Each arm is taken as its bare standard DH table (no joint offsets, base or tool), the
 kinematics EAIK's ``DhRobot(alpha, a, d)`` builds; ik-geo gets the same chain as joint
 axes H and offsets P (IK-Geo's convention: the tool frame at q = 0 turned onto the base
-frame, so targets are given as R·R_M⁻¹).  Poses are forward kinematics of random
+frame, so targets are given as R·R_M⁻¹, its rotations read by columns).  Poses are forward kinematics of random
 configurations.  Ours is :func:`robot_sim.ik.solutions.ik_solutions` with
 ``within_limits=False`` (one configuration per branch, as the others return).
 """
@@ -89,7 +89,7 @@ def main() -> None:
             theirs = eaik.IK(t)
             times["eaik"].append(time.perf_counter() - start)
             start = time.perf_counter()
-            g = geo.get_ik(((t[:3, :3] @ RM.T)).tolist(), t[:3, 3].tolist())
+            g = geo.get_ik((t[:3, :3] @ RM.T).T.tolist(), t[:3, 3].tolist())  # ik-geo reads R by columns
             times["geo"].append(time.perf_counter() - start)
             q_e = np.asarray(theirs.Q)[~np.asarray(theirs.is_LS, dtype=bool)] if len(theirs.Q) else np.zeros((0, 6))
             q_g = np.array([q for q, ls in g if not ls]) if g else np.zeros((0, 6))

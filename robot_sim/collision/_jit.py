@@ -13,13 +13,11 @@ folder is stamped and dropped, so two checkouts never wipe each other's machine 
 """
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 
-import numba
 from numba import njit
-from numba.core.caching import UserProvidedCacheLocator
 
+from robot_sim import jit
 from robot_sim.jit import JIT
 
 HERE = Path(__file__).resolve().parent
@@ -29,33 +27,12 @@ KERNEL_MODULES = ("closest", "gjk", "narrow", "batch", "contact_kernels", "certi
 
 def _cache_dirs() -> list[Path]:
     """Where numba may keep this package's kernels: beside them, and its folder in CACHE_DIR."""
-    dirs = [HERE / "__pycache__"]
-    if numba.config.CACHE_DIR:
-        folder = UserProvidedCacheLocator.get_suitable_cache_subpath(str(HERE / "batch.py"))
-        dirs.append(Path(numba.config.CACHE_DIR) / folder)
-    return dirs
+    return jit.cache_dirs(HERE, "batch.py")
 
 
 def drop_stale_cache() -> None:
     """Remove the cached machine code of the kernel modules if their sources changed."""
-    digest = hashlib.sha256()
-    for name in KERNEL_MODULES:
-        path = HERE / f"{name}.py"
-        if path.exists():
-            digest.update(path.read_bytes())
-    stamp_text = digest.hexdigest()
-    for cache in _cache_dirs():
-        stamp = cache / "collision-kernels.sha256"
-        try:
-            cache.mkdir(parents=True, exist_ok=True)  # stamped before numba's first save
-            if stamp.exists() and stamp.read_text() == stamp_text:
-                continue
-            for name in KERNEL_MODULES:
-                for old in cache.glob(f"{name}.*.nb[ic]"):
-                    old.unlink(missing_ok=True)
-            stamp.write_text(stamp_text)
-        except OSError:  # a read-only or vanishing cache: numba recompiles as needed
-            continue
+    jit.drop_stale_cache(HERE, KERNEL_MODULES, "collision-kernels.sha256", "batch.py")
 
 
 drop_stale_cache()

@@ -58,6 +58,14 @@ def first_bad_pose(Ts: np.ndarray, tol: float) -> int:
 
 
 @numba.njit(**JIT)
+def _chain(g: np.ndarray, at: int, m: int) -> tuple:
+    """Screws H (m, 3), P (m, 3) and M (4, 4) packed in g from ``at``."""
+    H = g[at:at + 3 * m].copy().reshape((m, 3))
+    P = g[at + 3 * m:at + 6 * m].copy().reshape((m, 3))
+    return H, P, g[at + 6 * m:at + 6 * m + 16].copy().reshape((4, 4))
+
+
+@numba.njit(**JIT)
 def _inverse(T: np.ndarray, out: np.ndarray) -> None:
     out[:, :] = 0.0
     out[3, 3] = 1.0
@@ -90,15 +98,8 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, values: 
         q0s[j] = q0[keep[j]]
     Tinv = np.empty((4, 4))
     for v in range(V):
-        g = gf[v]
-        at = 0
-        Hs = g[at:at + 3 * m].copy().reshape((m, 3))
-        at += 3 * m
-        Ps = g[at:at + 3 * m].copy().reshape((m, 3))
-        at += 3 * m
-        Ms = g[at:at + 16].copy().reshape((4, 4))
-        at += 16
-        A = g[at:at + 21].copy().reshape((7, 3))
+        Hs, Ps, Ms = _chain(gf[v], 0, m)
+        A = gf[v, 6 * m + 16:6 * m + 37].copy().reshape((7, 3))
         for i in range(N):
             T = Ts[i]
             if rev_chain:
@@ -121,16 +122,11 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, values: 
                     raw[i, row, free] = values[v]
                 code[i, row] = sub_code[k]
                 count[i] = row + 1
-    at = 6 * m + 16 + 21
-    g = gf[0]
-    Hf = g[at:at + 3 * n].copy().reshape((n, 3))
-    at += 3 * n
-    Pf = g[at:at + 3 * n].copy().reshape((n, 3))
-    at += 3 * n
-    Mf = g[at:at + 16].copy().reshape((4, 4))
-    at += 16
-    lo = g[at:at + n].copy()
-    hi = g[at + n:at + 2 * n].copy()
+    at = 6 * m + 37
+    Hf, Pf, Mf = _chain(gf[0], at, n)
+    at += 6 * n + 16
+    lo = gf[0, at:at + n].copy()
+    hi = gf[0, at + n:at + 2 * n].copy()
     exact = np.zeros((N, K * V), dtype=np.bool_)
     total = np.zeros(N, dtype=np.int64)
     screen(raw, code, count, exact, total, Hf, Pf, revf, Mf, Ts, q0, lo, hi, within, check_rot, tol)
