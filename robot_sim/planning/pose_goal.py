@@ -36,7 +36,8 @@ def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, chec
     configurations."""
     if answers(robot, position_only=False):
         qs = all_exact(robot, target, q_start)
-        return list(qs[~np.asarray(checker.in_collision(qs), dtype=bool)]) if len(qs) else []
+        found = list(qs[~np.asarray(checker.in_collision(qs), dtype=bool)]) if len(qs) else []
+        return _nearest_first(found, q_start)
     rng = np.random.default_rng(seed)
     starts = np.vstack([q_start, random_configurations(robot, IK_ATTEMPTS - 1, rng)])
     found: list[FloatArray] = []
@@ -48,6 +49,10 @@ def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, chec
             found.append(res.q)
         if len(found) >= MAX_BRANCHES:
             break
+    return _nearest_first(found, q_start)
+
+
+def _nearest_first(found: list[FloatArray], q_start: FloatArray) -> list[FloatArray]:
     return sorted(found, key=lambda q: float(np.linalg.norm(q - q_start)))
 
 
