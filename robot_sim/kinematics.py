@@ -1029,7 +1029,8 @@ def solve_ik(
 
     if answers(robot, position_only):
         q_exact = nearest_exact(robot, tmat, q, respect_limits, None if checker is None else checker.in_collision)
-        ee = forward_kinematics(robot, q_exact) if q_exact is not None else tmat
+        model = _model(robot)  # its single-configuration chain: the batched walk costs more for one
+        ee = model.frames(*model.th_d(q_exact), robot.base_tf.mat)[-1] @ model.tool if q_exact is not None else tmat
         pos_err = float(np.linalg.norm(tmat[:3, 3] - ee[:3, 3]))
         rot_err = 0.0 if position_only else float(np.linalg.norm(rotation_log(tmat[:3, :3] @ ee[:3, :3].T)))
         if q_exact is not None and pos_err <= tol_pos and rot_err <= tol_rot:
