@@ -22,6 +22,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from robot_sim.ik.classify import meeting_point  # noqa: E402
 from robot_sim.ik.geometry import screws  # noqa: E402
 from robot_sim.ik.solutions import ik_solutions  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
@@ -72,7 +73,12 @@ def main() -> None:
         robot = bare(name)
         eaik = DhRobot(robot.dh_alpha, robot.dh_a, robot.dh_d)
         S = screws(robot)
-        P = np.vstack([S.P[0], np.diff(S.P, axis=0), S.M[:3, 3] - S.P[-1]])
+        points = S.P.copy()  # IK-Geo wants meeting axes to share their point (zero offsets between them)
+        if family.startswith("spherical"):
+            points[3:] = meeting_point(S, 3, 4, 1e-9)
+        if family.endswith("two_intersecting") and not family.startswith("three"):
+            points[:2] = meeting_point(S, 0, 1, 1e-9)
+        P = np.vstack([points[0], np.diff(points, axis=0), S.M[:3, 3] - points[-1]])
         geo = getattr(ik_geo.Robot, family)(S.H.tolist(), P.tolist())
         RM = S.M[:3, :3]
         Q = rng.uniform(-np.pi, np.pi, (args.poses, 6))
