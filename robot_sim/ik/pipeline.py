@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.ik.classify import Plan
-from robot_sim.ik.families import PARALLEL_AXES, POSITION_ONLY, SPHERICAL_WRIST, THREE_PARALLEL
+from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
 from robot_sim.ik.finish import expand, screen

@@ -71,7 +71,7 @@ def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, c
     branches = ik_branches(robot, target_tf, qs, checker, seed=seed)
     if not branches:
         return PathResult(False, np.zeros((0, robot.n_dofs)), "no collision-free IK solution of the target pose "
-                          f"within the joint limits", time.perf_counter() - t0, 0)
+                          "within the joint limits", time.perf_counter() - t0, 0)
     checks, reasons = 0, []
     for k, goal in enumerate(branches):
         left = time_limit - (time.perf_counter() - t0)
