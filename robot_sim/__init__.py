@@ -43,6 +43,11 @@ _EXPORTS = {
     "solve_ik": "robot_sim.kinematics",
     "IKResult": "robot_sim.kinematics",
     "random_configurations": "robot_sim.kinematics",
+    # analytic inverse kinematics
+    "ik_family": "robot_sim.ik.family",
+    "IKFamily": "robot_sim.ik.family",
+    "ik_solutions": "robot_sim.ik.solutions",
+    "IKSolutions": "robot_sim.ik.solutions",
     # dynamics
     "inverse_dynamics": "robot_sim.dynamics",
     "mass_matrix": "robot_sim.dynamics",

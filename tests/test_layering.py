@@ -17,32 +17,33 @@ ALLOWED = {
     "model": {"transforms"},
     "io": {"model", "transforms"},
     "kernels": {"model", "transforms"},  # the compiled model and shared kernels, below kinematics
-    "kinematics": {"model", "kernels", "transforms"},
-    "dynamics": {"model", "kernels", "kinematics", "transforms"},
-    "collision": {"model", "io", "kernels", "kinematics", "dynamics", "transforms"},
-    "control": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "planning",
+    "ik": {"model", "kernels", "transforms"},  # analytic IK: never kinematics (which calls it) or above
+    "kinematics": {"model", "kernels", "ik", "transforms"},
+    "dynamics": {"model", "kernels", "ik", "kinematics", "transforms"},
+    "collision": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "transforms"},
+    "control": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "planning",
                 "transforms"},  # the laws: never sim
-    "sim": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control",
+    "sim": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control",
             "planning", "transforms"},  # the physics loop
-    "planning": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "transforms"},
-    "calibration": {"model", "io", "kernels", "kinematics", "collision", "transforms"},
-    "graphics": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
+    "planning": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "transforms"},
+    "calibration": {"model", "io", "kernels", "ik", "kinematics", "collision", "transforms"},
+    "graphics": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim", "planning",
                  "transforms"},
-    "viewer": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+    "viewer": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
                "transforms"},
-    "qt": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+    "qt": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
            "viewer", "transforms"},
     # the browser view: graphics only through its GL-free geometry (GRAPHICS_GEOMETRY below)
-    "web": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
+    "web": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim", "planning", "graphics",
             "viewer", "transforms"},
-    "app": {"model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim", "planning",
+    "app": {"model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim", "planning",
             "calibration", "graphics", "viewer", "qt", "web", "transforms"},
 }
 #: Third-party GUI and GL libraries, and the layers that must never import them.
 FORBIDDEN_EXTERNAL = {
-    "PyQt5": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+    "PyQt5": {"transforms", "model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim",
               "planning", "calibration", "graphics", "viewer", "web"},
-    "OpenGL": {"transforms", "model", "io", "kernels", "kinematics", "dynamics", "collision", "control", "sim",
+    "OpenGL": {"transforms", "model", "io", "kernels", "ik", "kinematics", "dynamics", "collision", "control", "sim",
                "planning", "calibration", "web"},
 }
 #: The graphics modules the browser view may import: geometry in NumPy, no GL.  Each

@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.planning.profiles import _parabolic, check_duration, joint_vector, plan_times
 from robot_sim.planning.trajectory import FloatArray, Trajectory
+from robot_sim.ik.nearest import follow_branch
 from robot_sim.kinematics import forward_kinematics, jacobian, solve_ik
 from robot_sim.kinematics.ik import _target_matrix
 from robot_sim.model.params import RobotParams
@@ -121,9 +122,12 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
                  qd_max: ArrayLike | None = None, qdd_max: ArrayLike | None = None) -> Trajectory:
     """Joint motion that puts the tool at ``poses`` (N, 4, 4) at times ``t`` (N,).
 
-    Each sample is solved by :func:`kinematics.solve_ik` from the previous sample's
-    solution continued by the last joint step (the first from ``q0``) without random
-    restarts, so the joint path stays on one branch.  q̇ and q̈ are finite differences of
+    Where the arm has a closed form the samples are solved in one batch
+    (:func:`robot_sim.ik.nearest.follow_branch`), each on the branch that continues the
+    previous sample's; otherwise (and from a sample that branch cannot reach) each sample
+    is solved by :func:`kinematics.solve_ik` from the previous sample's solution continued
+    by the last joint step (the first from ``q0``) without random restarts, so the joint
+    path stays on one branch.  q̇ and q̈ are finite differences of
     q (second order).  Raises :class:`CartesianPathError`, naming the sample, its time and
     the joint, at the first sample whose IK fails (out of reach, singular), where a joint
     reaches one of its limits (the IK would hold it there while the others compensate: a
@@ -151,27 +155,31 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
 
     Q = np.empty((t.shape[0], robot.n_dofs))
     was_at = at_limit(q_prev)
+    branch = follow_branch(robot, P, q_prev)  # closed form: every sample at once, on one branch
     for k in range(t.shape[0]):
-        # predictor: continue the last joint step (fewer IK iterations); stays a seed only
-        seed = q_prev if k < 2 else q_prev + (q_prev - Q[k - 2]) * ((t[k] - t[k - 1]) / (t[k - 1] - t[k - 2]))
-        seed = np.clip(seed, robot.q_min, robot.q_max)
-        res = solve_ik(robot, P[k], seed, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
-                       tol_pos=FOLLOW_TOL, tol_rot=FOLLOW_TOL)
-        if not res.success:
-            raise fail(k, *_why(robot, q_prev, res), Q)
-        reached = np.flatnonzero(at_limit(res.q) & ~was_at)
+        q_k = None if branch is None else branch[k]
+        if q_k is None or not np.isfinite(q_k).all():
+            # predictor: continue the last joint step (fewer IK iterations); stays a seed only
+            seed = q_prev if k < 2 else q_prev + (q_prev - Q[k - 2]) * ((t[k] - t[k - 1]) / (t[k - 1] - t[k - 2]))
+            seed = np.clip(seed, robot.q_min, robot.q_max)
+            res = solve_ik(robot, P[k], seed, max_restarts=0, max_iter=FOLLOW_MAX_ITER,
+                           tol_pos=FOLLOW_TOL, tol_rot=FOLLOW_TOL)
+            if not res.success:
+                raise fail(k, *_why(robot, q_prev, res), Q)
+            q_k = res.q
+        reached = np.flatnonzero(at_limit(q_k) & ~was_at)
         if reached.size:
             j = int(reached[0])
-            raise fail(k, f"joint {j + 1} reaches its limit ({res.q[j]:.6g} in "
+            raise fail(k, f"joint {j + 1} reaches its limit ({q_k[j]:.6g} in "
                           f"[{robot.q_min[j]:.6g}, {robot.q_max[j]:.6g}])", j, Q)
         if k > 0:
-            speed = np.abs(res.q - q_prev) / (t[k] - t[k - 1])
+            speed = np.abs(q_k - q_prev) / (t[k] - t[k - 1])
             j = int(np.argmax(speed / vmax))
             if speed[j] > vmax[j]:
                 unit = "rad/s" if robot.is_revolute[j] else "m/s"
                 raise fail(k, f"joint {j + 1} would move at {speed[j]:.3g} {unit}, above its limit "
                               f"{vmax[j]:.3g} {unit} (branch flip or singularity)", j, Q)
-        Q[k] = q_prev = res.q
+        Q[k] = q_prev = q_k
         was_at = at_limit(q_prev)
     traj = _partial(t, Q, P)
     over = np.argwhere(np.abs(traj.qdd) > amax)

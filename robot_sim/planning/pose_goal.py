@@ -11,6 +11,7 @@ import time
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robot_sim.ik.nearest import all_exact, answers
 from robot_sim.kinematics import random_configurations, solve_ik
 from robot_sim.model.params import RobotParams
 from robot_sim.planning.edges import Checker
@@ -30,7 +31,13 @@ SAME_BRANCH = 1e-3
 def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, checker: Checker, *,
                 seed: int | None = 0, tol: float = 1e-6) -> list[FloatArray]:
     """Distinct collision-free IK solutions of ``target`` within the limits, nearest to
-    ``q_start`` first (joint-space distance)."""
+    ``q_start`` first (joint-space distance): every analytic one where the arm has a
+    closed form (:mod:`robot_sim.ik`), else those of descents from the start and random
+    configurations."""
+    if answers(robot, position_only=False):
+        qs = all_exact(robot, target, q_start)
+        found = list(qs[~np.asarray(checker.in_collision(qs), dtype=bool)]) if len(qs) else []
+        return _nearest_first(found, q_start)
     rng = np.random.default_rng(seed)
     starts = np.vstack([q_start, random_configurations(robot, IK_ATTEMPTS - 1, rng)])
     found: list[FloatArray] = []
@@ -42,6 +49,10 @@ def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, chec
             found.append(res.q)
         if len(found) >= MAX_BRANCHES:
             break
+    return _nearest_first(found, q_start)
+
+
+def _nearest_first(found: list[FloatArray], q_start: FloatArray) -> list[FloatArray]:
     return sorted(found, key=lambda q: float(np.linalg.norm(q - q_start)))
 
 
@@ -50,8 +61,8 @@ def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, c
     """A collision-free joint path from ``q_start`` to a configuration that puts the tool
     at ``target_tf`` (world, 4×4).
 
-    Several IK branches (:func:`ik_branches`: descents from the start and from random
-    configurations, those in collision dropped) are tried nearest first, each with
+    The IK branches (:func:`ik_branches`: every analytic solution, or descents from the
+    start and from random configurations; those in collision dropped) are tried nearest first, each with
     :func:`plan_path` and the time left of ``time_limit`` [s]; the first that plans wins.
     ``success=False`` with a message when no branch is found or none can be reached.
     """
@@ -60,7 +71,7 @@ def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, c
     branches = ik_branches(robot, target_tf, qs, checker, seed=seed)
     if not branches:
         return PathResult(False, np.zeros((0, robot.n_dofs)), "no collision-free IK solution of the target pose "
-                          f"within the joint limits ({IK_ATTEMPTS} descents)", time.perf_counter() - t0, 0)
+                          "within the joint limits", time.perf_counter() - t0, 0)
     checks, reasons = 0, []
     for k, goal in enumerate(branches):
         left = time_limit - (time.perf_counter() - t0)

@@ -113,7 +113,7 @@ def test_ik_singular_solves_inside_are_a_failed_result(monkeypatch) -> None:
         raise np.linalg.LinAlgError("Singular matrix")
 
     monkeypatch.setattr(np.linalg, "solve", singular)
-    robot = shipped("puma560")
+    robot = shipped("humanoid7")  # a 7-joint arm: the numerical path (the closed form needs no solve)
     result = solve_ik(robot, forward_kinematics(robot, robot.q_home + 0.3))
     assert not result.success
     assert np.isfinite(result.q).all()
@@ -125,7 +125,7 @@ def test_ik_arithmetic_failure_inside_is_a_failed_result(monkeypatch) -> None:
         raise FloatingPointError("overflow encountered in matmul")
 
     monkeypatch.setattr(np.linalg, "solve", overflow)
-    robot = shipped("puma560")
+    robot = shipped("humanoid7")  # a 7-joint arm: the numerical path (the closed form needs no solve)
     result = solve_ik(robot, forward_kinematics(robot, robot.q_home + 0.3))
     assert not result.success
     assert np.isfinite(result.q).all()

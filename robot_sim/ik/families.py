@@ -1,0 +1,187 @@
+"""Closed-form solvers of the IK families (compiled), on a chain of screws
+(:mod:`robot_sim.ik.geometry`): ``E_0(q_0) ⋯ E_{m-1}(q_{m-1}) M = T``.
+
+Each solver writes every branch of one pose into ``out`` (K, m) and its posture bits into
+``code`` (K,), and returns how many it wrote.  ``A`` holds the constant points and
+directions the classification prepared (rows listed per solver).  Angles that a singular
+pose leaves free take their value in ``q0``.
+
+* :func:`spherical_wrist` (Pieper): axes 3, 4, 5 meet at the wrist centre w, so
+  joints 0–2 place w (:func:`robot_sim.ik.position.arm_position`, up to 4 ways) and the
+  wrist turns the rest: R_3 R_4 h_5 = R_w h_5 is SP2 (2 ways), then q_5 by SP1.
+* :func:`three_parallel` (the UR family): axes 1, 2, 3 parallel, axes 4 and 5 meet at o.
+  Turns about the parallel axes keep components along h_1, so
+  h_1ᵀ E_0⁻¹ (T M⁻¹ o) = h_1ᵀ o gives q_0 (SP4), h_1ᵀ R_0ᵀ R h_5 = h_1ᵀ R_4 h_5 gives q_4
+  (SP4) and R_5ᵀ R_4ᵀ h_1 = Rᵀ R_0 h_1 gives q_5 (SP1); the sum q_1 + q_2 + q_3 follows
+  by SP1, and the planar pair by SP3 and SP1 (up to 8 ways).
+* :func:`parallel_axes` (planar arms, SCARA): every revolute axis parallel to h, a
+  prismatic joint along h: the turn about h (SP1), the slide (a projection on h), the
+  planar pair (SP3, SP1) — 2 ways.
+* :func:`position_only`: three joints place the tool point (4 ways).
+"""
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from robot_sim.ik.position import (ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn)
+from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, sp1, sp2, sp3, sp4, sub
+from robot_sim.kernels.jit import JIT
+
+SPHERICAL_WRIST, THREE_PARALLEL, PARALLEL_AXES, POSITION_ONLY = range(4)
+
+
+@numba.njit(inline="always", **JIT)
+def rmul(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
+    """Rotation block of T times x."""
+    return (T[0, 0] * x[0] + T[0, 1] * x[1] + T[0, 2] * x[2],
+            T[1, 0] * x[0] + T[1, 1] * x[1] + T[1, 2] * x[2],
+            T[2, 0] * x[0] + T[2, 1] * x[1] + T[2, 2] * x[2])
+
+
+@numba.njit(inline="always", **JIT)
+def rtmul(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
+    """Transposed rotation block of T times x."""
+    return (T[0, 0] * x[0] + T[1, 0] * x[1] + T[2, 0] * x[2],
+            T[0, 1] * x[0] + T[1, 1] * x[1] + T[2, 1] * x[2],
+            T[0, 2] * x[0] + T[1, 2] * x[1] + T[2, 2] * x[2])
+
+
+@numba.njit(inline="always", **JIT)
+def apply(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
+    return add(rmul(T, x), (T[0, 3], T[1, 3], T[2, 3]))
+
+
+@numba.njit(inline="always", **JIT)
+def unturn(H: np.ndarray, rev: np.ndarray, q: np.ndarray, first: int, last: int, v: tuple) -> tuple:
+    """(R_first ⋯ R_last)ᵀ v: the rotation of joints first..last undone (prismatic ones
+    do not turn)."""
+    for j in range(first, last + 1):
+        if rev[j]:
+            v = rot(row(H, j), -q[j], v)
+    return v
+
+
+@numba.njit(**JIT)
+def wrist(H: np.ndarray, q: np.ndarray, rw6: tuple, rwx: tuple, x6: tuple, q0: np.ndarray,
+          out: np.ndarray, n: int) -> None:
+    """The two wrists (q_3, q_4, q_5) with R_3 R_4 R_5 = R_w, given R_w h_5 and R_w x6
+    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints q[0:3] and one wrist each."""
+    h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
+    q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3])
+    for k, (q4, q5) in enumerate(((-m4a, q5a), (-m4b, q5b))):
+        q6 = sp1(h5, x6, rot(h4, -q5, rot(h3, -q4, rwx)), q0[5])
+        out[n + k, 0:3] = q[0:3]
+        out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
+
+
+@numba.njit(**JIT)
+def wrist_bit(H: np.ndarray, q4: float, q5: float) -> int:
+    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0: the wrist's two postures differ in
+    that sign, and Siciliano's first wrist solution (sin θ5 > 0 on his anthropomorphic arm
+    with spherical wrist) is the one not flipped."""
+    h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
+    return WRIST_FLIPPED if dot(cross(h3, rot(h3, q4, h4)), rot(h3, q4, rot(h4, q5, h5))) > 0.0 else 0
+
+
+@numba.njit(**JIT)
+def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A: np.ndarray, T: np.ndarray,
+                    q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
+    """A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
+    of the arm axes, 6 the shoulder direction f0."""
+    pw = apply(T, row(A, 1))
+    r6, rx = rmul(T, row(A, 2)), rmul(T, row(A, 4))
+    f0, x6 = row(A, 6), row(A, 3)
+    arm = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
+    for j in range(arm - 1, -1, -1):
+        bits = posture_bits(H, P, f0, out[j], pw)
+        wrist(H, out[j], unturn(H, rev, out[j], 0, 2, r6), unturn(H, rev, out[j], 0, 2, rx), x6, q0, out, 2 * j)
+        for k in (2 * j, 2 * j + 1):
+            code[k] = bits | wrist_bit(H, out[k, 3], out[k, 4])
+    return 2 * arm
+
+
+@numba.njit(**JIT)
+def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T: np.ndarray,
+                   q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
+    """A: 0 the meeting point o of axes 4 and 5, 1 M⁻¹o, 2 R_Mᵀh_5, 3 x1 ⟂ h_1, 4 f0."""
+    h0, h1, h2, h3, h4, h5 = row(H, 0), row(H, 1), row(H, 2), row(H, 3), row(H, 4), row(H, 5)
+    p0, p1, p2, p3, p4, p5 = row(P, 0), row(P, 1), row(P, 2), row(P, 3), row(P, 4), row(P, 5)
+    s2, s3 = (1.0 if dot(h1, h2) > 0.0 else -1.0), (1.0 if dot(h1, h3) > 0.0 else -1.0)
+    po = apply(T, row(A, 1))
+    r6 = rmul(T, row(A, 2))
+    x1, f0 = row(A, 3), row(A, 4)
+    n = 0
+    t1a, t1b, _, _ = sp4(h1, h0, sub(po, p0), dot(h1, sub(row(A, 0), p0)))
+    for t1 in (t1a, t1b):
+        q1 = -t1
+        t5a, t5b, _, _ = sp4(h1, h4, h5, dot(h1, rot(h0, -q1, r6)))
+        for q5 in (t5a, t5b):
+            back = rmul(M, rtmul(T, rot(h0, q1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
+            q6 = -sp1(h5, rot(h4, -q5, h1), back, -q0[5])
+            v = rot(h0, -q1, rmul(T, rtmul(M, rot(h5, -q6, rot(h4, -q5, x1)))))
+            total = sp1(h1, x1, v, q0[1] + s2 * q0[2] + s3 * q0[3])
+            # y = E_0⁻¹ T M⁻¹ E_5⁻¹ E_4⁻¹ p3, the point on axis 3 that joints 1 and 2 must reach
+            z = turn(h5, p5, -q6, turn(h4, p4, -q5, p3))
+            z = rtmul(M, sub(z, (M[0, 3], M[1, 3], M[2, 3])))
+            y = turn(h0, p0, -q1, apply(T, z))
+            dist = norm(perp(h1, sub(y, p1)))
+            t3a, t3b, _, _ = sp3(h2, perp(h1, sub(p3, p2)), perp(h1, sub(p2, p1)), dist)
+            for q3 in (t3a, t3b):
+                q2 = sp1(h1, sub(turn(h2, p2, q3, p3), p1), sub(y, p1), q0[1])
+                q4 = s3 * (total - q2 - s2 * q3)
+                out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
+                bits = posture_bits(H, P, f0, out[n], add(rot(h0, q1, sub(y, p0)), p0))
+                code[n] = bits | wrist_bit(H, q4, q5)
+                n += 1
+    return n
+
+
+@numba.njit(**JIT)
+def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.ndarray,
+                  q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
+    """idx: the two arm joints a, b, the turning joint c and the slide s (−1 if none).
+    A: 0 a point c on axis c (the tool point if none), 1 M⁻¹c, 2 x ⟂ h, 3 R_Mᵀx."""
+    a, b, c, s = idx[0], idx[1], idx[2], idx[3]
+    h, ha, hb = row(H, a), row(H, a), row(H, b)
+    pa, pb = row(P, a), row(P, b)
+    sb = 1.0 if dot(h, hb) > 0.0 else -1.0
+    point = row(A, 0)
+    target = apply(T, row(A, 1))
+    slide = 0.0
+    if s >= 0:
+        hs = row(H, s)
+        slide = dot(h, sub(target, point)) / dot(h, hs)
+        target = sub(target, (slide * hs[0], slide * hs[1], slide * hs[2]))
+    total, sc = 0.0, 1.0
+    if c >= 0:
+        sc = 1.0 if dot(h, row(H, c)) > 0.0 else -1.0
+        total = sp1(h, row(A, 2), rmul(T, row(A, 3)), q0[a] + sb * q0[b] + sc * q0[c])
+    dist = norm(perp(h, sub(target, pa)))
+    tba, tbb, _, _ = sp3(hb, perp(h, sub(point, pb)), perp(h, sub(pb, pa)), dist)
+    n = 0
+    for qb in (tba, tbb):
+        elbow = sub(turn(hb, pb, qb, point), pa)
+        qa = sp1(ha, elbow, sub(target, pa), q0[a])
+        out[n, :] = 0.0
+        out[n, a], out[n, b] = qa, qb
+        if s >= 0:
+            out[n, s] = slide
+        if c >= 0:
+            out[n, c] = sc * (total - qa - sb * qb)
+        upper = rot(ha, qa, sub(pb, pa))
+        code[n] = ELBOW_DOWN if dot(h, cross(upper, sub(target, add(pa, upper)))) > 0.0 else 0
+        n += 1
+    return n
+
+
+@numba.njit(**JIT)
+def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.ndarray, q0: np.ndarray,
+                  out: np.ndarray, code: np.ndarray) -> int:
+    """A: 0 the tool point at q = 0, 5 meeting point o, 6 f0 (the rows of spherical_wrist)."""
+    pw = (T[0, 3], T[1, 3], T[2, 3])
+    n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
+    for k in range(n):
+        code[k] = posture_bits(H, P, row(A, 6), out[k], pw)
+    return n
+

@@ -1,0 +1,93 @@
+"""The analytic answers the rest of the package asks for: the nearest exact solution
+(for ``solve_ik``), every collision-free one (for ``plan_to_pose``), and one branch
+followed along a path of poses (for Cartesian lines and the pick task).
+
+Each returns None when the closed form does not answer the question asked (no closed
+form, a 7-joint arm, or a task the family does not solve), so the caller keeps its
+numerical path for those.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robot_sim.ik.family import solver
+from robot_sim.ik.finish import TWO_PI
+from robot_sim.ik.solutions import ik_solutions
+from robot_sim.kernels.jit import JIT
+from robot_sim.model.params import RobotParams
+
+FloatArray = NDArray[np.float64]
+
+
+def answers(robot: RobotParams, position_only: bool) -> bool:
+    """True when the closed form solves exactly what is asked: the pose of a 6-joint arm,
+    or the position of a 3-joint position arm.  (A 7-joint arm's free joint, and the
+    redundancy of planar arms solved for position only, are left to the numerical IK.)"""
+    family = solver(robot).family
+    if not family.closed_form or family.free_joint is not None:
+        return False
+    return family.task == ("position" if position_only else "pose")
+
+
+def all_exact(robot: RobotParams, T: ArrayLike, q0: FloatArray, within_limits: bool = True) -> FloatArray:
+    """(k, n) exact solutions of one pose, nearest to q0 first (none when out of reach)."""
+    sols = ik_solutions(robot, T, q0, within_limits=within_limits)
+    return sols.q[sols.exact]
+
+
+def nearest_exact(robot: RobotParams, T: ArrayLike, q0: FloatArray, within_limits: bool,
+                  rejects: Callable[[FloatArray], Any] | None = None) -> FloatArray | None:
+    """The exact solution nearest to q0 that ``rejects`` (say, a collision check) does not
+    reject, or None."""
+    for q in all_exact(robot, T, q0, within_limits):
+        if rejects is None or not rejects(q):
+            return q
+    return None
+
+
+@numba.njit(**JIT)
+def _continue(Q: np.ndarray, count: np.ndarray, exact: np.ndarray, q_start: np.ndarray, rev: np.ndarray,
+              lo: np.ndarray, hi: np.ndarray, out: np.ndarray) -> None:
+    """out[i] = the exact solution of pose i nearest to out[i-1] (q_start before the
+    first), its revolute angles turned nearest to out[i-1], inside [lo, hi]; NaN from the
+    first pose with none."""
+    n = Q.shape[2]
+    prev = q_start.copy()
+    cand = np.empty(n)
+    out[:, :] = np.nan
+    for i in range(Q.shape[0]):
+        best_d = np.inf
+        for k in range(count[i]):
+            if not exact[i, k]:
+                continue
+            d, inside = 0.0, True
+            for j in range(n):
+                x = Q[i, k, j]
+                if rev[j]:
+                    x += TWO_PI * round((prev[j] - x) / TWO_PI)
+                inside = inside and lo[j] <= x <= hi[j]
+                cand[j] = x
+                d += (x - prev[j]) ** 2
+            if inside and d < best_d:
+                best_d = d
+                out[i] = cand
+        if best_d == np.inf:
+            return
+        prev[:] = out[i]
+
+
+def follow_branch(robot: RobotParams, poses: ArrayLike, q_start: FloatArray) -> FloatArray | None:
+    """(N, n) joint path through the poses (N, 4, 4) along the branch that continues the
+    previous sample's (the first nearest ``q_start``), inside the limits; rows are NaN
+    from the first pose that branch cannot reach.  One batched IK for all poses."""
+    if not answers(robot, robot.n_dofs < 6):
+        return None
+    sols = ik_solutions(robot, poses, q_start, within_limits=False)
+    out = np.empty((sols.q.shape[0], robot.n_dofs))
+    _continue(sols.q, sols.count, sols.exact, np.asarray(q_start, dtype=float), robot.is_revolute,
+              np.asarray(robot.q_min), np.asarray(robot.q_max), out)
+    return out

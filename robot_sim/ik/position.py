@@ -1,0 +1,117 @@
+"""Position of a point carried by three joints, in closed form (compiled).
+
+Joints 0, 1, 2 of a screw chain (:mod:`robot_sim.ik.geometry`) carry the point ``w``
+(world, q = 0) to ``pw``: ``E_0(q_0) E_1(q_1) E_2(q_2) w = pw``.  Which closed form
+applies depends on how the axes meet (the case is chosen by :mod:`robot_sim.ik.classify`):
+
+* ``ONE_TWO_MEET``: axes 0 and 1 meet at ``o``, joint 2 revolute.  Joints 0 and 1 keep
+  the distance to o, so ‖E_2 w − o‖ = ‖pw − o‖ gives q_2 (SP3), then SP2 gives q_0, q_1.
+* ``ONE_TWO_MEET_SLIDE``: the same with joint 2 prismatic: ‖w + q_2 h_2 − o‖ = ‖pw − o‖
+  is a quadratic in q_2 (the Stanford arm).
+* ``TWO_THREE_PARALLEL``: axes 1 and 2 parallel.  Turns about them keep the component
+  along h_1, so h_1ᵀ E_0⁻¹ pw = h_1ᵀ w gives q_0 (SP4); the planar pair then gives q_2 by
+  the distance to axis 1 (SP3 in the plane ⟂ h_1) and q_1 by SP1.
+* ``ONE_TWO_PARALLEL``: axes 0 and 1 parallel: h_0ᵀ E_2 w = h_0ᵀ pw gives q_2 (SP4), then
+  the planar pair q_1 (SP3), q_0 (SP1).
+* ``TWO_THREE_MEET``: axes 1 and 2 meet at o: ‖E_0⁻¹ pw − o‖ = ‖w − o‖ gives q_0 (SP3),
+  then SP2 gives q_1, q_2.
+
+Each case gives up to four solutions, with branch bits: shoulder (the point behind
+axis 0 as seen along ``f0``, the arm's reach direction at q = 0) and elbow (the elbow,
+on axis 2, below the line from the shoulder, on axis 1, to the point, "below" along h_0).
+Where an angle is free (a singular pose) it takes its value in ``q0``.
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from robot_sim.ik.subproblems import add, dot, norm, perp, rot, scale, sp1, sp2, sp3, sp4, sub
+from robot_sim.kernels.jit import JIT
+
+ONE_TWO_MEET, ONE_TWO_MEET_SLIDE, TWO_THREE_PARALLEL, ONE_TWO_PARALLEL, TWO_THREE_MEET = range(5)
+#: Branch bits of an arm posture.
+SHOULDER_LEFT, ELBOW_DOWN, WRIST_FLIPPED = 4, 2, 1
+
+
+@numba.njit(inline="always", **JIT)
+def row(A: np.ndarray, i: int) -> tuple[float, float, float]:
+    return (A[i, 0], A[i, 1], A[i, 2])
+
+
+@numba.njit(inline="always", **JIT)
+def turn(h: tuple, p: tuple, q: float, x: tuple) -> tuple[float, float, float]:
+    """E(q) x for a revolute joint about the line (p, h)."""
+    return add(rot(h, q, sub(x, p)), p)
+
+
+@numba.njit(**JIT)
+def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, q: np.ndarray, pw: tuple) -> int:
+    """Shoulder and elbow bits of arm joints q[0], q[1] reaching the point pw."""
+    h0, p0, h1, p1 = row(H, 0), row(P, 0), row(H, 1), row(P, 1)
+    bits = SHOULDER_LEFT if dot(f0, rot(h0, -q[0], sub(pw, p0))) < 0.0 else 0
+    shoulder = turn(h0, p0, q[0], p1)
+    elbow = turn(h0, p0, q[0], turn(h1, p1, q[1], row(P, 2)))
+    v, line = sub(elbow, shoulder), sub(pw, shoulder)
+    ll = dot(line, line)
+    if ll > 0.0:
+        v = sub(v, scale(dot(v, line) / ll, line))
+    return bits | (ELBOW_DOWN if dot(v, h0) < 0.0 else 0)
+
+
+@numba.njit(**JIT)
+def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw: tuple,
+                 q0: np.ndarray, out: np.ndarray) -> int:
+    """Every (q_0, q_1, q_2) putting w at pw, written to out[k, 0:3]; returns how many."""
+    h0, h1, h2 = row(H, 0), row(H, 1), row(H, 2)
+    p0, p1, p2 = row(P, 0), row(P, 1), row(P, 2)
+    n = 0
+    if case == ONE_TWO_MEET or case == ONE_TWO_MEET_SLIDE:
+        dist = norm(sub(pw, o))
+        if case == ONE_TWO_MEET:
+            t3a, t3b, _, _ = sp3(h2, sub(w, p2), sub(p2, o), dist)
+        else:
+            b = dot(h2, sub(w, o))
+            disc = b * b - dot(sub(w, o), sub(w, o)) + dist * dist
+            root = math.sqrt(disc) if disc > 0.0 else 0.0
+            t3a, t3b = -b + root, -b - root
+        y = sub(pw, o)
+        for t3 in (t3a, t3b):
+            x = sub(add(w, scale(t3, h2)), o) if case == ONE_TWO_MEET_SLIDE else sub(turn(h2, p2, t3, w), o)
+            q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0])
+            for q1, q2 in ((-m1a, q2a), (-m1b, q2b)):
+                out[n, 0], out[n, 1], out[n, 2] = q1, q2, t3
+                n += 1
+    elif case == TWO_THREE_PARALLEL:
+        t1a, t1b, _, _ = sp4(h1, h0, sub(pw, p0), dot(h1, sub(w, p0)))
+        for t1 in (t1a, t1b):
+            y = turn(h0, p0, t1, pw)
+            dist = norm(perp(h1, sub(y, p1)))
+            t3a, t3b, _, _ = sp3(h2, perp(h1, sub(w, p2)), perp(h1, sub(p2, p1)), dist)
+            for t3 in (t3a, t3b):
+                q2 = sp1(h1, sub(turn(h2, p2, t3, w), p1), sub(y, p1), q0[1])
+                out[n, 0], out[n, 1], out[n, 2] = -t1, q2, t3
+                n += 1
+    elif case == ONE_TWO_PARALLEL:
+        t3a, t3b, _, _ = sp4(h0, h2, sub(w, p2), dot(h0, sub(pw, p2)))
+        dist = norm(perp(h0, sub(pw, p0)))
+        for t3 in (t3a, t3b):
+            x = turn(h2, p2, t3, w)
+            t2a, t2b, _, _ = sp3(h1, perp(h0, sub(x, p1)), perp(h0, sub(p1, p0)), dist)
+            for t2 in (t2a, t2b):
+                q1 = sp1(h0, sub(turn(h1, p1, t2, x), p0), sub(pw, p0), q0[0])
+                out[n, 0], out[n, 1], out[n, 2] = q1, t2, t3
+                n += 1
+    else:  # TWO_THREE_MEET
+        t1a, t1b, _, _ = sp3(h0, sub(pw, p0), sub(p0, o), norm(sub(w, o)))
+        x = sub(w, o)
+        for t1 in (t1a, t1b):
+            y = sub(turn(h0, p0, t1, pw), o)
+            q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1])
+            for q2, q3 in ((-m2a, q3a), (-m2b, q3b)):
+                out[n, 0], out[n, 1], out[n, 2] = -t1, q2, q3
+                n += 1
+    return n
+

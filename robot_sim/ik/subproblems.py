@@ -1,0 +1,136 @@
+"""Canonical geometric subproblems of inverse kinematics, compiled (numba), on 3-vectors
+held as tuples (no heap allocation in the solvers' inner loops).
+
+The definitions are IK-Geo's (A. J. Elias and J. T. Wen, "IK-Geo: Unified robot inverse
+kinematics using subproblem decomposition", Mechanism and Machine Theory 209, 2025,
+arXiv:2211.05737, section 3); the solutions below are derived here.  ``R(k, θ)`` is the
+turn by θ about the unit axis k (right hand), by Rodrigues' formula.
+
+* SP1: θ with R(k, θ) p1 = p2 (least squares in the plane ⟂ k when none exists).
+* SP4: θ with hᵀ R(k, θ) p = d (two roots, or the closest one when |d| is out of reach).
+* SP3: θ with ‖R(k, θ) p1 − p2‖ = δ reduces to SP4 (see the solvers).
+* SP2: θ1, θ2 with R(k1, θ1) p1 = R(k2, θ2) p2 (two solutions, or the closest pair).
+"""
+from __future__ import annotations
+
+import math
+
+import numba
+
+from robot_sim.kernels.jit import JIT
+
+Vec = tuple[float, float, float]
+
+
+@numba.njit(inline="always", **JIT)
+def add(a: Vec, b: Vec) -> Vec:
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@numba.njit(inline="always", **JIT)
+def sub(a: Vec, b: Vec) -> Vec:
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@numba.njit(inline="always", **JIT)
+def scale(s: float, a: Vec) -> Vec:
+    return (s * a[0], s * a[1], s * a[2])
+
+
+@numba.njit(inline="always", **JIT)
+def dot(a: Vec, b: Vec) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@numba.njit(inline="always", **JIT)
+def cross(a: Vec, b: Vec) -> Vec:
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@numba.njit(inline="always", **JIT)
+def norm(a: Vec) -> float:
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@numba.njit(inline="always", **JIT)
+def perp(k: Vec, a: Vec) -> Vec:
+    """a without its component along the unit vector k."""
+    return sub(a, scale(dot(k, a), k))
+
+
+@numba.njit(inline="always", **JIT)
+def rot(k: Vec, theta: float, x: Vec) -> Vec:
+    """R(k, θ) x by Rodrigues' formula."""
+    c, s = math.cos(theta), math.sin(theta)
+    kx = dot(k, x) * (1.0 - c)
+    w = cross(k, x)
+    return (c * x[0] + s * w[0] + kx * k[0], c * x[1] + s * w[1] + kx * k[1], c * x[2] + s * w[2] + kx * k[2])
+
+
+#: Below this length a vector has no direction (the subproblem's angle is free).
+DEGENERATE = 1e-12
+
+
+@numba.njit(**JIT)
+def sp1(k: Vec, p1: Vec, p2: Vec, default: float) -> float:
+    """θ that turns p1 about k onto p2 (their projections on the plane ⟂ k); ``default``
+    when either projection vanishes (any θ does)."""
+    a, b = perp(k, p1), perp(k, p2)
+    if norm(a) < DEGENERATE or norm(b) < DEGENERATE:
+        return default
+    return math.atan2(dot(k, cross(a, b)), dot(a, b))
+
+
+@numba.njit(**JIT)
+def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple[float, float, bool, bool]:
+    """Both θ with hᵀ R(k, θ) p = d: (θa, θb, exact, free).
+
+    hᵀR(k, θ)p = A cos θ + B sin θ + C with A = hᵀ(p − k kᵀp), B = hᵀ(k × p),
+    C = (hᵀk)(kᵀp), so θ = atan2(B, A) ± acos((d − C)/√(A² + B²)).  Out of reach the two
+    roots merge into the closest θ and ``exact`` is False; ``free`` when A = B = 0."""
+    A = dot(h, perp(k, p))
+    B = dot(h, cross(k, p))
+    C = dot(h, k) * dot(k, p)
+    r = math.hypot(A, B)
+    if r < DEGENERATE:
+        return 0.0, 0.0, abs(d - C) < 1e-9, True
+    phi = math.atan2(B, A)
+    c = (d - C) / r
+    if c > 1.0:
+        return phi, phi, c < 1.0 + 1e-9, False
+    if c < -1.0:
+        return phi + math.pi, phi + math.pi, c > -1.0 - 1e-9, False
+    delta = math.acos(c)
+    return phi + delta, phi - delta, True, False
+
+
+@numba.njit(**JIT)
+def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple[float, float, float, float, bool]:
+    """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
+    (θ1a, θ2a, θ1b, θ2b, exact).
+
+    The common image v = α k1 + β k2 ± γ k1×k2 satisfies k1ᵀv = k1ᵀp1, k2ᵀv = k2ᵀp2 and
+    ‖v‖ = ‖p1‖ (directions only: p1 and p2 are normalised).  Out of reach γ = 0 (the
+    closest pair).  ``d1``, ``d2`` are the angles used where one is free (p on its axis)."""
+    n1, n2 = norm(p1), norm(p2)
+    if n1 < DEGENERATE or n2 < DEGENERATE:
+        return d1, d2, d1, d2, n1 < DEGENERATE and n2 < DEGENERATE
+    u1, u2 = scale(1.0 / n1, p1), scale(1.0 / n2, p2)
+    k12 = dot(k1, k2)
+    det = 1.0 - k12 * k12
+    a1, a2 = dot(k1, u1), dot(k2, u2)
+    alpha = (a1 - k12 * a2) / det
+    beta = (a2 - k12 * a1) / det
+    v0 = add(scale(alpha, k1), scale(beta, k2))
+    n = cross(k1, k2)
+    g2 = (1.0 - dot(v0, v0)) / det
+    exact = g2 > -1e-9
+    g = math.sqrt(g2) if g2 > 0.0 else 0.0
+    va, vb = add(v0, scale(g, n)), sub(v0, scale(g, n))
+    return sp1(k1, u1, va, d1), sp1(k2, u2, va, d2), sp1(k1, u1, vb, d1), sp1(k2, u2, vb, d2), exact
+
+
+@numba.njit(**JIT)
+def sp3(k: Vec, p1: Vec, p2: Vec, delta: float) -> tuple[float, float, bool, bool]:
+    """Both θ with ‖R(k, θ) p1 + p2‖ = δ, by ‖R p1 + p2‖² = ‖p1‖² + ‖p2‖² + 2 p2ᵀR p1 (SP4)."""
+    return sp4(p2, k, p1, 0.5 * (delta * delta - dot(p1, p1) - dot(p2, p2)))
