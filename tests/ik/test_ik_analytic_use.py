@@ -4,7 +4,7 @@ plan_to_pose plans every goal that plan_path plans on seeded table scenes."""
 from __future__ import annotations
 
 import sys
-from pathlib import Path
+from paths import ROOT
 
 import numpy as np
 import pytest
@@ -18,7 +18,7 @@ from robot_sim.planning.cartesian import cartesian_line
 from robot_sim.planning.pose_goal import ik_branches, plan_to_pose
 from robot_sim.planning.rrt import plan_path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 from planning_scenes import make_scene  # noqa: E402
 
 
