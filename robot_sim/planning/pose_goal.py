@@ -52,6 +52,11 @@ def ik_branches(robot: RobotParams, target: ArrayLike, q_start: FloatArray, chec
     return _nearest_first(found, q_start)
 
 
+#: Time slices of the rounds over the branches, as fractions of the time limit (a last
+#: round gets the time left).
+ROUND_SLICES = (1 / 64, 1 / 8)
+
+
 def _nearest_first(found: list[FloatArray], q_start: FloatArray) -> list[FloatArray]:
     return sorted(found, key=lambda q: float(np.linalg.norm(q - q_start)))
 
@@ -62,8 +67,10 @@ def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, c
     at ``target_tf`` (world, 4×4).
 
     The IK branches (:func:`ik_branches`: every analytic solution, or descents from the
-    start and from random configurations; those in collision dropped) are tried nearest first, each with
-    :func:`plan_path` and the time left of ``time_limit`` [s]; the first that plans wins.
+    start and from random configurations; those in collision dropped) are tried nearest
+    first with :func:`plan_path`, in rounds of growing time slices (:data:`ROUND_SLICES`
+    of ``time_limit`` [s], the last round the time left), so that a near branch that
+    cannot be reached does not spend the time of one that can; the first that plans wins.
     ``success=False`` with a message when no branch is found or none can be reached.
     """
     t0 = time.perf_counter()
@@ -72,16 +79,17 @@ def plan_to_pose(robot: RobotParams, q_start: ArrayLike, target_tf: ArrayLike, c
     if not branches:
         return PathResult(False, np.zeros((0, robot.n_dofs)), "no collision-free IK solution of the target pose "
                           "within the joint limits", time.perf_counter() - t0, 0)
-    checks, reasons = 0, []
-    for k, goal in enumerate(branches):
-        left = time_limit - (time.perf_counter() - t0)
-        if left <= 0.0:
-            break
-        res = plan_path(robot, qs, goal, checker, time_limit=left, seed=seed)
-        checks += res.checks
-        if res.success:
-            return PathResult(True, res.path, f"IK branch {k + 1} of {len(branches)}: {res.message}",
-                              time.perf_counter() - t0, checks)
-        reasons.append(f"branch {k + 1}: {res.message}")
-    return PathResult(False, np.zeros((0, robot.n_dofs)), "no IK branch reachable: " + "; ".join(reasons),
+    checks, reasons = 0, {}
+    for share in (*ROUND_SLICES, 1.0):
+        for k, goal in enumerate(branches):
+            left = time_limit - (time.perf_counter() - t0)
+            if left <= 0.0:
+                break
+            res = plan_path(robot, qs, goal, checker, time_limit=min(left, share * time_limit), seed=seed)
+            checks += res.checks
+            if res.success:
+                return PathResult(True, res.path, f"IK branch {k + 1} of {len(branches)}: {res.message}",
+                                  time.perf_counter() - t0, checks)
+            reasons[k] = f"branch {k + 1}: {res.message}"
+    return PathResult(False, np.zeros((0, robot.n_dofs)), "no IK branch reachable: " + "; ".join(reasons.values()),
                       time.perf_counter() - t0, checks)

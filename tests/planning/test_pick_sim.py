@@ -39,7 +39,7 @@ def test_pd_tracks_worse_than_computed_torque(ur5_ct):
 
 
 def test_cli_pick_with_computed_torque_reports_tracking(tmp_path):
-    from test_cli import read_png, run
+    from cli_helpers import read_png, run
 
     out = tmp_path / "ct.png"
     result = run("--robot", "ur5", "--demo", "pick", "--motion", "ct", "--time", "1000", "--size", "320x240",
