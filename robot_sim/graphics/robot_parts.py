@@ -22,7 +22,6 @@ into a neighbouring joint or the endeffector.  World frame, metres.
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,6 +29,7 @@ from numpy.typing import NDArray
 
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.placements import along, spheres
+from robot_sim.kernels.model import per_robot
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
 
@@ -126,8 +126,13 @@ class RobotLook:
     frame_length: float
 
 
-@functools.lru_cache(maxsize=64)
 def robot_look(robot: RobotParams) -> RobotLook:
+    """The part sizes of ``robot``, computed once and kept with its compiled model
+    (robot_sim.kernels.model.per_robot, the package's one per-robot cache)."""
+    return per_robot(robot, "graphics.robot_look", _robot_look)
+
+
+def _robot_look(robot: RobotParams) -> RobotLook:
     """The part sizes of ``robot``: each joint sized from the link it moves, or a
     fraction ``JOINT_INCOMING_WEIGHT`` of the link it sits on if that is more
     (``JOINT_RADIUS_LOCAL_FRAC``), clamped to [``JOINT_RADIUS_MIN_FRAC``,
