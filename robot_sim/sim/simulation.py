@@ -330,21 +330,25 @@ class Simulation:
         desired = None
         taken = 0
         law = self._sampled_law()
-        with np.errstate(all="ignore"):
-            while taken < n_steps:
-                if law is not None and not self._any_at_limit:  # free steps in one compiled call
-                    fixed = desired_at(self.time)
-                    run = self._run_law(law, fixed, n_steps - taken)
-                    if run:
-                        taken, desired = taken + run, fixed
-                        if taken == n_steps:
-                            break
-                try:  # a step the compiled loop does not take (a stop, a failure) or the loop's own
-                    desired = self._step(desired_at)
-                except (StepDiverged, np.linalg.LinAlgError) as exc:
-                    self.stopped = stop_message(self.time, str(exc))
-                    break
-                taken += 1
+        if law is not None and not self._any_at_limit:  # free steps in one compiled call (no NumPy warnings to mute)
+            desired = desired_at(self.time)
+            taken = self._run_law(law, desired, n_steps)
+            if taken == 0:
+                desired = None
+        if taken < n_steps:
+            with np.errstate(all="ignore"):
+                while taken < n_steps:
+                    try:  # a step the compiled loop does not take (a stop, a failure) or the loop's own
+                        desired = self._step(desired_at)
+                    except (StepDiverged, np.linalg.LinAlgError) as exc:
+                        self.stopped = stop_message(self.time, str(exc))
+                        break
+                    taken += 1
+                    if law is not None and not self._any_at_limit and taken < n_steps:
+                        fixed = desired_at(self.time)
+                        run = self._run_law(law, fixed, n_steps - taken)
+                        if run:
+                            taken, desired = taken + run, fixed
         self._publish(desired)
         return taken
 
