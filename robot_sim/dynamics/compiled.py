@@ -332,6 +332,19 @@ def squares_finite(x):
 
 
 @njit(**INLINE)
+def clip_effort(command, limit, effort):
+    """``effort`` = ``command`` clipped to ±``limit`` (NumPy's clip for finite values);
+    True if some joint was clipped."""
+    saturated = False
+    for j in range(command.shape[0]):
+        x = command[j]
+        if abs(x) > limit[j]:
+            saturated = True
+        effort[j] = min(max(x, -limit[j]), limit[j])
+    return saturated
+
+
+@njit(**INLINE)
 def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
     """Computed torque: q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) into ``qdd_ref``
     (the operations and their order of NumPy's ``qdd_des + kp * (q_des - q) + kd * (qd_des - qd)``)
@@ -581,12 +594,7 @@ def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, activ
         if not squares_finite(cmd):
             STATUS[i] = BAD_EFFORT
             continue
-        saturated = False
-        for j in range(n):
-            x = cmd[j]
-            if abs(x) > ELIM[j]:
-                saturated = True
-            tau[j] = min(max(x, -ELIM[j]), ELIM[j])
+        saturated = clip_effort(cmd, ELIM, tau)
         STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], tau, qdd_ref, not saturated, g0, held, False, stops,
                               Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)
 
@@ -632,12 +640,7 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                     c[j] += g[j]
         if not squares_finite(c):
             return k
-        saturated = False
-        for j in range(n):
-            x = c[j]
-            if abs(x) > elim[j]:
-                saturated = True
-            t[j] = min(max(x, -elim[j]), elim[j])
+        saturated = clip_effort(c, elim, t)
         if _step_one(P, modified, rk4, h, q, qd, t, a_ref, law == LAW_CT and not saturated, g0, held, False, stops,
                      q1, qd1, qdd1, react, at, work) != OK:
             return k
