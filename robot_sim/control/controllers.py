@@ -199,6 +199,14 @@ class Controller:
         :attr:`continuous`) and steps the dynamics itself."""
         return None
 
+    def sampled_law(self) -> tuple[str, FloatArray, FloatArray] | None:
+        """The law by name (``"passive"``, ``"pd"``, ``"pdg"``, ``"ct"``) and its gains
+        ``kp``, ``kd`` (n,) [N·m/rad, N·m·s/rad; computed torque: ω² (1/s²) and 2ζω (1/s)
+        in entry 0] when :meth:`torque` is exactly that sampled law on this controller's
+        ``robot``, so a compiled loop may run several steps of it in one call
+        (``Stepper.run_law``); None (the default): the loop calls :meth:`torque`."""
+        return None
+
     def acceleration(self, q: FloatArray, qd: FloatArray, *desired: FloatArray) -> FloatArray | None:
         """The closed-loop joint acceleration on this controller's model at (q, q̇) for the
         ``desired`` values, when the law yields it without its torque (operational space
@@ -213,6 +221,9 @@ class Passive(Controller):
 
     def __init__(self, robot: RobotParams) -> None:
         self._zero = np.zeros(robot.n_dofs)
+
+    def sampled_law(self) -> tuple[str, FloatArray, FloatArray] | None:
+        return "passive", self._zero, self._zero
 
     def torque(
         self, q: FloatArray, qd: FloatArray, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray
@@ -234,6 +245,9 @@ class PD(Controller):
         self, q: FloatArray, qd: FloatArray, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray
     ) -> FloatArray:
         return self.kp * (q_des - q) + self.kd * (qd_des - qd)
+
+    def sampled_law(self) -> tuple[str, FloatArray, FloatArray] | None:
+        return self.mode, self.kp, self.kd
 
 
 class PDGravity(PD):
@@ -259,6 +273,9 @@ class ComputedTorque(Controller):
         self.kp = gains.omega**2
         self.kd = 2.0 * gains.zeta * gains.omega
         self._qdd_ref: FloatArray | None = None
+
+    def sampled_law(self) -> tuple[str, FloatArray, FloatArray] | None:
+        return "ct", np.array([self.kp], dtype=float), np.array([self.kd], dtype=float)
 
     def torque(
         self, q: FloatArray, qd: FloatArray, q_des: FloatArray, qd_des: FloatArray, qdd_des: FloatArray

@@ -322,6 +322,29 @@ def all_finite(x):
 
 
 @njit(**INLINE)
+def squares_finite(x):
+    """True if the sum of squares of the vector x is finite (as the physics loop's check:
+    a vector whose squares overflow is as diverged as one holding inf)."""
+    squares = 0.0
+    for v in x:
+        squares += v * v
+    return math.isfinite(squares)
+
+
+@njit(**INLINE)
+def clip_effort(command, limit, effort):
+    """``effort`` = ``command`` clipped to ±``limit`` (NumPy's clip for finite values);
+    True if some joint was clipped."""
+    saturated = False
+    for j in range(command.shape[0]):
+        x = command[j]
+        if abs(x) > limit[j]:
+            saturated = True
+        effort[j] = min(max(x, -limit[j]), limit[j])
+    return saturated
+
+
+@njit(**INLINE)
 def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
     """Computed torque: q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) into ``qdd_ref``
     (the operations and their order of NumPy's ``qdd_des + kp * (q_des - q) + kd * (qd_des - qd)``)
@@ -568,17 +591,65 @@ def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, activ
             continue
         cmd, tau = CMD[i], TAU[i]
         _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, cmd, qdd_ref, O, CS, F, NM)
-        squares = 0.0
-        for j in range(n):
-            squares += cmd[j] * cmd[j]
-        if not math.isfinite(squares):
+        if not squares_finite(cmd):
             STATUS[i] = BAD_EFFORT
             continue
-        saturated = False
-        for j in range(n):
-            x = cmd[j]
-            if abs(x) > ELIM[j]:
-                saturated = True
-            tau[j] = min(max(x, -ELIM[j]), ELIM[j])
+        saturated = clip_effort(cmd, ELIM, tau)
         STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], tau, qdd_ref, not saturated, g0, held, False, stops,
                               Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)
+
+
+#: Control laws of :func:`run_steps`: no effort, PD, PD plus gravity, computed torque.
+LAW_PASSIVE, LAW_PD, LAW_PDG, LAW_CT = 0, 1, 2, 3
+
+
+@njit(**JIT)
+def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vlim, g0, stops, q, qd, qdd, cmd, tau,
+              sat, vsat):
+    """Up to ``n_steps`` steps of one arm under a sampled joint law with the desired values
+    q_des, qd_des, qdd_des (n,) fixed: per step the command ``cmd`` (LAW_PASSIVE: 0;
+    LAW_PD: kp (q_des − q) + kd (q̇_des − q̇), kp and kd (n,); LAW_PDG: that plus g(q);
+    LAW_CT: :func:`_ct_one` with the gains kp[0], kd[0]), the effort ``tau`` the command
+    clipped to ±elim (``sat`` flags the joints clipped), the step of :func:`step_batch`
+    (from q̈_ref for computed torque where nothing saturated), and q̇ clipped to ±vlim
+    (``vsat`` flags the joints braked).  The operations of the physics loop's step in
+    turn, so the same bits.  q, qd (n,) are advanced in place; qdd, cmd, tau, sat, vsat
+    hold the last step's.  Returns the number of steps taken: it stops before a step
+    whose command or end state is not finite or whose status is not :data:`OK` (a stop
+    touched), which the caller takes its own way."""
+    modified = P[0, MOD] != 0.0
+    n = P.shape[0]
+    work = step_work(n)
+    O, CS, F, NM = work[0], work[1], work[2], work[3]
+    held = np.zeros(n, dtype=np.bool_)
+    zero = np.zeros(n)
+    a_ref, g, c, t = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    q1, qd1, qdd1, react, at = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n, dtype=np.bool_)
+    for k in range(n_steps):
+        if law == LAW_CT:
+            _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp[0], kd[0], g0, c, a_ref, O, CS, F, NM)
+        elif law == LAW_PASSIVE:
+            c[:] = 0.0
+        else:
+            for j in range(n):
+                c[j] = kp[j] * (q_des[j] - q[j]) + kd[j] * (qd_des[j] - qd[j])
+            if law == LAW_PDG:
+                _geometry(P, modified, q, O, CS)
+                rnea_one(P, modified, zero, zero, g0, O[0], False, g, O, CS, F, NM)
+                for j in range(n):
+                    c[j] += g[j]
+        if not squares_finite(c):
+            return k
+        saturated = clip_effort(c, elim, t)
+        if _step_one(P, modified, rk4, h, q, qd, t, a_ref, law == LAW_CT and not saturated, g0, held, False, stops,
+                     q1, qd1, qdd1, react, at, work) != OK:
+            return k
+        for j in range(n):
+            v = qd1[j]
+            vsat[j] = abs(v) > vlim[j]
+            qd1[j] = min(max(v, -vlim[j]), vlim[j])
+        if not (squares_finite(q1) and squares_finite(qd1)):
+            return k
+        for j in range(n):
+            q[j], qd[j], qdd[j], cmd[j], tau[j], sat[j] = q1[j], qd1[j], qdd1[j], c[j], t[j], abs(c[j]) > elim[j]
+    return n_steps

@@ -335,15 +335,55 @@ class Simulation:
         desired_at = self._desired_source()
         desired = None
         taken = 0
-        with np.errstate(all="ignore"):
-            for _ in range(n_steps):
-                try:
-                    desired = self._step(desired_at)
-                except (StepDiverged, np.linalg.LinAlgError) as exc:
-                    self.stopped = stop_message(self.time, str(exc))
-                    break
-                taken += 1
+        law = self._sampled_law()
+        if law is not None and not self._any_at_limit:  # free steps in one compiled call (no NumPy warnings to mute)
+            desired = desired_at(self.time)
+            taken = self._run_law(law, desired, n_steps)
+            if taken == 0:
+                desired = None
+        if taken < n_steps:
+            with np.errstate(all="ignore"):
+                while taken < n_steps:
+                    try:  # a step the compiled loop does not take (a stop, a failure) or the loop's own
+                        desired = self._step(desired_at)
+                    except (StepDiverged, np.linalg.LinAlgError) as exc:
+                        self.stopped = stop_message(self.time, str(exc))
+                        break
+                    taken += 1
+                    if law is not None and not self._any_at_limit and taken < n_steps:
+                        fixed = desired_at(self.time)
+                        run = self._run_law(law, fixed, n_steps - taken)
+                        if run:
+                            taken, desired = taken + run, fixed
         self._publish(desired)
+        return taken
+
+    def _sampled_law(self) -> tuple[str, FloatArray, FloatArray] | None:
+        """The controller's sampled law and gains (``Controller.sampled_law``) when whole
+        steps of it may run in one compiled call: the compiled backend, the controller's
+        model is the simulated robot, the desired values are fixed over the call (no
+        reference), and nothing but the effort acts (no contact, pull or tool wrench)."""
+        controller = self.controller
+        if (self._reference is not None or self.contact is not None or self._pull is not None or self._wrench is not None
+                or controller.space != "joint" or controller.continuous or dynamics.backend() != "compiled"
+                or getattr(controller, "robot", self.robot) is not self.robot):
+            return None
+        return controller.sampled_law()
+
+    def _run_law(self, law: tuple[str, FloatArray, FloatArray], desired: Desired, n_steps: int) -> int:
+        """Up to ``n_steps`` free steps of the sampled ``law`` toward ``desired`` in one
+        compiled call (``Stepper.run_law``: the same bits as :meth:`_step` one step at a
+        time); the number taken, whose record it writes as :meth:`_finish` does."""
+        taken, (q, qd, qdd, command, effort, saturated, braked) = self._stepper_of().run_law(
+            *law, desired, self.effort_limit, self.velocity_limit, self.q, self.qd, n_steps, stops=self._limit_position,
+        )
+        if taken:
+            self.q, self.qd, self.qdd = q, qd, qdd
+            self.effort_command, self.effort = command, effort
+            self.saturated, self.velocity_limited = saturated, braked
+            for _ in range(taken):  # the clock as the step-by-step loop advances it
+                self.time += self.dt
+            self.steps += taken
         return taken
 
     def _desired_source(self) -> Callable[[float], Desired]:

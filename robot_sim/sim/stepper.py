@@ -239,6 +239,38 @@ class Stepper:
                         stops, self._gravity, out)
         return out
 
+    def run_law(
+        self,
+        law: str,
+        kp: FloatArray,
+        kd: FloatArray,
+        desired: tuple[FloatArray, FloatArray, FloatArray],
+        effort_limit: FloatArray,
+        velocity_limit: FloatArray,
+        q: FloatArray,
+        qd: FloatArray,
+        n_steps: int,
+        *,
+        stops: bool = False,
+    ) -> tuple[int, tuple[FloatArray, ...]]:
+        """Up to ``n_steps`` steps of one arm (a one-arm stepper, compiled backend) from
+        (q, q̇) (n,) under the sampled ``law`` (``Controller.sampled_law``: "passive", "pd",
+        "pdg", "ct" with its gains kp, kd) toward the fixed ``desired`` (q, q̇, q̈) (n,),
+        in one compiled call (``dynamics.compiled.run_steps``): per step the command, its
+        clip to ±``effort_limit``, :meth:`step` (``stops`` as there) and q̇ clipped to
+        ±``velocity_limit`` (n,).  Returns the number of steps taken (it stops before a
+        step that is not finite or touches a stop) and the state after the last one:
+        (q, q̇, q̈ at its start, command, effort [N·m or N], joints saturated, joints braked)."""
+        n = self.shape[1]
+        q, qd = q.copy(), qd.copy()
+        out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool))
+        q_des, qd_des, qdd_des = (np.ascontiguousarray(x, dtype=float) for x in desired)
+        taken = self._kernels.run_steps(
+            self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()), np.ascontiguousarray(kp, dtype=float),
+            np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des, effort_limit, velocity_limit, self._g0, stops, *out,
+        )
+        return taken, out
+
     def _check_shapes(self, **arrays: FloatArray) -> None:
         """ValueError naming the first array whose shape is not (N, n)."""
         for name, x in arrays.items():

@@ -8,7 +8,7 @@ import pytest
 
 from robot_sim import dynamics
 from robot_sim.viewer import settings as vs
-from robot_sim.control.controllers import PD, ComputedTorque, Controller, Gains, PDGravity, control_gains
+from robot_sim.control.controllers import PD, ComputedTorque, Controller, Gains, Passive, PDGravity, control_gains
 from robot_sim.model.inertials import Drives
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim.kinematics import forward_kinematics, jacobian
@@ -200,8 +200,13 @@ def test_effort_limit_saturates_the_command_and_reports_it():
 
 
 class _LawOutsideTheStep(ComputedTorque):
-    """Computed torque evaluated by its own call (the simulation fuses only ComputedTorque
-    itself into its step call)."""
+    """Computed torque evaluated by its own call, then stepped (neither fused into the
+    step call nor run in the compiled multi-step call)."""
+
+    integrates = False
+
+    def sampled_law(self) -> None:
+        return None
 
 
 def test_computed_torque_in_the_step_call_equals_the_controller_called_first():
@@ -228,6 +233,41 @@ def test_computed_torque_in_the_step_call_equals_the_controller_called_first():
                      reference=lambda t: (np.full(n, np.nan), np.zeros(n), np.zeros(n)))
     with pytest.raises(ValueError, match="q_des must be finite"):
         sim.step(1)
+
+
+def _one_step_at_a_time(kind: type[Controller]) -> type[Controller]:
+    """``kind`` with the same torque, evaluated by the loop step by step (no compiled law,
+    no fused step)."""
+    return type(f"StepByStep{kind.__name__}", (kind,), {"integrates": False, "sampled_law": lambda self: None})
+
+
+@pytest.mark.parametrize("kind", [Passive, PD, PDGravity, ComputedTorque])
+def test_the_compiled_multi_step_call_equals_the_loop_step_by_step(kind: type[Controller]) -> None:
+    """PUMA 560 with its drives (friction, effort and velocity limits) and its stops, each
+    sampled law toward a set point beyond a limit: ``step(n)`` running the law inside one
+    compiled call gives the bits of the loop evaluating the controller and stepping once
+    at a time, through saturation, stop arrivals and releases (handed back to the loop).
+    Passive: Panda, which falls into its stops (PUMA's friction holds it)."""
+    rob = robot("panda" if kind is Passive else "puma560")
+    goal = np.clip(rob.q_home + 1.5, None, rob.q_max + 0.2)
+    runs, events = [], []
+    for cls in (kind, _one_step_at_a_time(kind)):
+        state = RobotState(rob)
+        state.set_q_des(goal)
+        sim = Simulation(rob, state, cls(rob) if kind is Passive else cls(rob, control_gains(rob, bandwidth=4.0)))
+        rows = []
+        for _ in range(20):
+            assert sim.step(37) == 37
+            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, sim.effort_command, sim.saturated,
+                                        sim.velocity_limited, sim.at_limit, sim.limit_torque, [sim.time, sim.steps]]))
+        runs.append(np.array(rows))
+        events.append(sim.take_events())
+    np.testing.assert_array_equal(runs[0], runs[1])
+    assert events[0] == events[1]
+    n = rob.n_dofs
+    if kind is not Passive:
+        assert runs[0][:, 5 * n : 6 * n].any()  # it saturated
+    assert events[0] or runs[0][:, 7 * n : 8 * n].any()  # it reached a stop
 
 
 def test_velocity_limit_is_enforced_by_the_drive():
