@@ -42,7 +42,7 @@ def report_image(res: CalibrationResult) -> NDArray[np.uint8]:
     the errors after calibration."""
     img = np.full((HEIGHT, WIDTH, 3), 255, dtype=np.uint8)
     top, bottom = MARGIN, HEIGHT - MARGIN
-    split = int(WIDTH * 0.64)
+    split = int(WIDTH * 0.6)
     before, after = res.before.position * 1e6, res.after.position * 1e6
     lo = np.floor(np.log10(max(min(after.min(), res.holdout.position.min() * 1e6), 1e-3)))
     hi = np.ceil(np.log10(max(before.max(), 1e-3)))
@@ -83,7 +83,7 @@ def report_image(res: CalibrationResult) -> NDArray[np.uint8]:
         x0, x1 = int(left + k * bin_w) + 1, int(left + (k + 1) * bin_w) - 1
         img[int(bottom - count / peak * (bottom - top)):bottom, x0:x1] = AFTER
     img[bottom, left:right] = INK
-    _text(img, "errors after [µm]", left, 12)
+    _text(img, f"errors after [µm]: poses per bin (tallest {peak})", left, 12)
     _text(img, "0", left, bottom + 4)
     _text(img, f"{edges[-1]:.3g}", right - 40, bottom + 4)
     _text(img, f"RMS {res.rms_before * 1e3:.3g} mm → {res.rms_after * 1e6:.3g} µm "
