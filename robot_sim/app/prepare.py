@@ -26,6 +26,7 @@ from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
 from robot_sim.io.world_file import WorldDefinitionError, load_world
 from robot_sim.io.xacro_file import parse_xacro_args
+from robot_sim.ik.family import ik_family
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
 from robot_sim.model.messages import clip
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
@@ -67,6 +68,7 @@ class Config:
     world: World | None = None  # --world: obstacles (None: the floor only)
     collision: bool = False  # --collision: the collision display shown
     trail: bool = False  # --trail: the endeffector's path drawn
+    ik_branches: bool = False  # --ik-branches: every analytic IK branch of the start pose drawn
 
 
 def prepare(argv: Sequence[str]) -> Config:
@@ -78,6 +80,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
     """Prepare parsed arguments (robot_sim.app.cli.parse_args): load the robot and the
     world, check the options that need the robot, plan the pick task."""
     robot = load_robot_arg(args)
+    if args.ik_branches and not ik_family(robot).closed_form:
+        raise CliError(f"--ik-branches: {robot.name} has no closed-form IK ({ik_family(robot).name})")
     if args.workspace:
         check_workspace(args.workspace, robot)
     try:
@@ -115,6 +119,7 @@ def config_from_args(args: argparse.Namespace) -> Config:
         world=world,
         collision=args.collision,
         trail=args.trail,
+        ik_branches=args.ik_branches,
     )
 
 
@@ -147,7 +152,7 @@ def session_spec(config: Config) -> SessionSpec:
     return SessionSpec(config.robot, size=config.size, q=config.q, theme=config.theme, look=config.look,
                        world=config.world, gains=config.gains, motion=config.motion, simulate=config.simulate,
                        frames=config.frames, wireframe=config.wireframe, collision=config.collision,
-                       annotate=config.annotate, trail=config.trail, pick=pick,
+                       annotate=config.annotate, trail=config.trail, ik_branches=config.ik_branches, pick=pick,
                        demo="circle" if config.demo == "circle" else None)
 
 

@@ -1,10 +1,11 @@
 """The IK target's analytic branches in a viewer (key B cycles them as the ghost, Shift+B
 shows all at once): every closed-form solution of the target pose
-(:func:`robot_sim.ik.solutions.ik_solutions`), nearest to the arm's joints when first
-asked, kept until the target moves or hides."""
+(:func:`robot_sim.ik.solutions.ik_solutions`) inside the joint limits, one per posture
+(the nearest turn of each: further turns of a joint whose range exceeds 2π look alike),
+nearest to the arm's joints when first asked, kept until the target moves or hides."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -40,6 +41,14 @@ class Branches:
         return shown
 
 
+def one_per_posture(solutions: IKSolutions) -> IKSolutions:
+    """The first (nearest) solution of each branch code of one pose's ``solutions``, in order."""
+    _, first = np.unique(solutions.codes, return_index=True)
+    keep = np.sort(first)
+    return replace(solutions, q=solutions.q[keep], branch=tuple(solutions.branch[i] for i in keep),
+                   exact=solutions.exact[keep], count=len(keep), codes=solutions.codes[keep])
+
+
 def solve_branches(robot: RobotParams, target: np.ndarray, q0: np.ndarray) -> Branches | str:
     """The branches of the world pose ``target`` (4×4) nearest to ``q0`` (n,) first, or the
     status message saying why there are none: no closed form, or no solution inside the
@@ -47,7 +56,7 @@ def solve_branches(robot: RobotParams, target: np.ndarray, q0: np.ndarray) -> Br
     family = ik_family(robot)
     if not family.closed_form:
         return f"IK branches: {robot.name} has no closed-form IK ({family.name})"
-    solutions = ik_solutions(robot, target, q0)
+    solutions = one_per_posture(ik_solutions(robot, target, q0))
     if len(solutions) == 0:
         return "IK branches: no solution of the target inside the joint limits"
     return Branches(solutions)

@@ -2,7 +2,7 @@
 ``GHOST_COLOR``, drawn only where they differ from the arm's and behind any arm surface
 they touch, so the ghost never recolours the arm.  The IK target's branches drawn at once
 (``scene.branches``, key Shift+B) are ghosts too, each labelled with its posture name at
-its middle joint frame (``branch_label_point``)."""
+its middle joint (``branch_label_point``)."""
 from __future__ import annotations
 
 import numpy as np
@@ -16,12 +16,16 @@ from robot_sim.graphics.robot_parts import Part, differing
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.looks import look_for
 from robot_sim.kinematics import Kinematics
+from robot_sim.model.params import CONVENTION_STANDARD
 
 
 def branch_label_point(kinematics: Kinematics) -> np.ndarray:
-    """Where a drawn branch's name is written: the origin (world, m) of its middle joint
-    frame (frame 3 of a 6-joint arm: where the arm postures differ most)."""
-    return np.asarray(kinematics.frames[(len(kinematics.frames) - 1) // 2 + 1][:3, 3], dtype=float)
+    """Where a drawn branch's name is written (world, m): on the axis of its middle joint
+    j = ceil(n / 2) (the elbow of a 6-joint arm: where the arm postures differ most), at
+    the origin of the frame that joint turns (standard DH: frame j - 1; modified: frame j)."""
+    joint = (kinematics.robot.n_dofs + 1) // 2
+    index = joint - 1 if kinematics.robot.convention == CONVENTION_STANDARD else joint
+    return np.asarray(kinematics.frames[index][:3, 3], dtype=float)
 
 
 class GhostItem(Item):
