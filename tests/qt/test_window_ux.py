@@ -287,7 +287,7 @@ def test_follow_keeps_the_camera_on_the_endeffector(app: Any, planar: Any) -> No
 
 
 def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
-    press(app, Qt.Key_B)
+    press(app, Qt.Key_F, Qt.ShiftModifier)
     slider = planar.joints.rows[0].slider
     start = planar.session.kin.endeff_tf.t().copy()
     for deg in range(10, 71, 2):
@@ -304,7 +304,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     assert 2 <= x < width - 2 and 2 <= y < height - 2
     window = image[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
-    press(app, Qt.Key_B)
+    press(app, Qt.Key_F, Qt.ShiftModifier)
     assert planar.session.trail is None
     window = grab(planar)[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert not np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
