@@ -26,7 +26,6 @@ from robot_sim.io.meshes import MeshSkippedWarning
 from robot_sim.io.robot_file import load_robot
 from robot_sim.io.world_file import WorldDefinitionError, load_world
 from robot_sim.io.xacro_file import parse_xacro_args
-from robot_sim.ik.family import ik_family
 from robot_sim.kinematics import available_memory, max_workspace_samples, sampling_bounds
 from robot_sim.model.messages import clip
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
@@ -80,8 +79,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
     """Prepare parsed arguments (robot_sim.app.cli.parse_args): load the robot and the
     world, check the options that need the robot, plan the pick task."""
     robot = load_robot_arg(args)
-    if args.ik_branches and not ik_family(robot).closed_form:
-        raise CliError(f"--ik-branches: {robot.name} has no closed-form IK ({ik_family(robot).name})")
+    if args.ik_branches:
+        check_ik_branches(robot)
     if args.workspace:
         check_workspace(args.workspace, robot)
     try:
@@ -121,6 +120,16 @@ def config_from_args(args: argparse.Namespace) -> Config:
         trail=args.trail,
         ik_branches=args.ik_branches,
     )
+
+
+def check_ik_branches(robot: RobotParams) -> None:
+    """CliError for --ik-branches on an arm without a closed-form IK (the analytic solver,
+    compiled with numba, is loaded only then)."""
+    from robot_sim.ik.family import ik_family
+
+    family = ik_family(robot)
+    if not family.closed_form:
+        raise CliError(f"--ik-branches: {robot.name} has no closed-form IK ({family.name})")
 
 
 def load_robot_arg(args: argparse.Namespace) -> RobotParams:

@@ -6,14 +6,16 @@ nearest to the arm's joints when first asked, kept until the target moves or hid
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from robot_sim.ik.family import ik_family
-from robot_sim.ik.solutions import IKSolutions, ik_solutions
 from robot_sim.kinematics import Kinematics
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
+
+if TYPE_CHECKING:  # the analytic solver compiles with numba: loaded when first asked
+    from robot_sim.ik.solutions import IKSolutions
 
 
 @dataclass
@@ -53,6 +55,9 @@ def solve_branches(robot: RobotParams, target: np.ndarray, q0: np.ndarray) -> Br
     """The branches of the world pose ``target`` (4×4) nearest to ``q0`` (n,) first, or the
     status message saying why there are none: no closed form, or no solution inside the
     joint limits."""
+    from robot_sim.ik.family import ik_family
+    from robot_sim.ik.solutions import ik_solutions
+
     family = ik_family(robot)
     if not family.closed_form:
         return f"IK branches: {robot.name} has no closed-form IK ({family.name})"

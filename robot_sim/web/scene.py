@@ -20,11 +20,10 @@ from robot_sim.graphics import defs as gd
 from robot_sim.graphics.annotation_geometry import dh_annotation
 from robot_sim.graphics.collision_scene import closest_marks, collision_parts
 from robot_sim.graphics.floor_grid import FloorGrid
-from robot_sim.graphics.items.ghost import branch_label_point
 from robot_sim.graphics.frame_axes import axes_placements, frame_labels, frames_and_names
 from robot_sim.graphics.looks import look_for
 from robot_sim.graphics.placements import spheres
-from robot_sim.graphics.robot_parts import differing_masks, robot_look, robot_reach
+from robot_sim.graphics.robot_parts import branch_label_point, differing_masks, robot_look, robot_reach
 from robot_sim.graphics.solid import posed_parts
 from robot_sim.graphics.task_scene import obstacle_placements, task_parts
 from robot_sim.graphics.themes import theme

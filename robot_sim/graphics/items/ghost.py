@@ -12,20 +12,9 @@ from robot_sim.graphics.frame import Frame
 from robot_sim.graphics.gl import GL
 from robot_sim.graphics.item import Item
 from robot_sim.graphics.solid import posed_parts
-from robot_sim.graphics.robot_parts import Part, differing
+from robot_sim.graphics.robot_parts import Part, branch_label_point, differing
 from robot_sim.graphics.scene import GraphicsOptions, Scene
 from robot_sim.graphics.looks import look_for
-from robot_sim.kinematics import Kinematics
-from robot_sim.model.params import CONVENTION_STANDARD
-
-
-def branch_label_point(kinematics: Kinematics) -> np.ndarray:
-    """Where a drawn branch's name is written (world, m): on the axis of its middle joint
-    j = ceil(n / 2) (the elbow of a 6-joint arm: where the arm postures differ most), at
-    the origin of the frame that joint turns (standard DH: frame j - 1; modified: frame j)."""
-    joint = (kinematics.robot.n_dofs + 1) // 2
-    index = joint - 1 if kinematics.robot.convention == CONVENTION_STANDARD else joint
-    return np.asarray(kinematics.frames[index][:3, 3], dtype=float)
 
 
 class GhostItem(Item):
