@@ -433,7 +433,7 @@ class ViewerSession:
         ``mode`` (control.MOTION_MODES)."""
         from robot_sim.viewer.drivers.pick import PickDemo, PickDriver  # the planner: numba
 
-        self.target_tf, self.ik_result = None, None
+        self.target_tf, self.ik_result, self.branches = None, None, None
         self.driver = PickDriver(PickDemo(plan, effort, mode=mode), self.driver.base)
         self.show_pick_at(time)
         self.pick.playing = self.pick.time < self.pick.duration
