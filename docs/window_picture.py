@@ -37,7 +37,7 @@ def main(out: str) -> int:
     QTest.qWaitForWindowExposed(window)
     window.dh_dock.table.selectRow(1)  # joint 2: annotated in the view
     window.view.setFocus()
-    QTest.keyClick(window.view, Qt.Key_B)  # the trail (the circle demo runs from --demo circle)
+    QTest.keyClick(window.view, Qt.Key_F, Qt.ShiftModifier)  # the trail (the circle demo runs from --demo circle)
     QTest.qWait(round(1000 * SECONDS))
     app.processEvents()
     picture = window.grab().toImage()

@@ -112,8 +112,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--kp", metavar="k1,k2,...", help="PD stiffness per joint (N·m/rad or N/m)")
     parser.add_argument("--kd", metavar="k1,k2,...", help="PD damping per joint (N·m·s/rad or N·s/m)")
     parser.add_argument("--trail", action="store_true",
-                        help="draw the endeffector's path (key B): in the window, in --record pictures, and in "
+                        help="draw the endeffector's path (key Shift+F): in the window, in --record pictures, and in "
                              "a --screenshot of what --motion simulated for --duration")
+    parser.add_argument("--ik-branches", action="store_true",
+                        help="draw every analytic IK branch of the start pose (--q) at once, translucent and "
+                             "labelled with its posture (key Shift+B)")
     web_cmd.add_arguments(parser)
     return parser
 

@@ -67,6 +67,7 @@ class Config:
     world: World | None = None  # --world: obstacles (None: the floor only)
     collision: bool = False  # --collision: the collision display shown
     trail: bool = False  # --trail: the endeffector's path drawn
+    ik_branches: bool = False  # --ik-branches: every analytic IK branch of the start pose drawn
 
 
 def prepare(argv: Sequence[str]) -> Config:
@@ -78,6 +79,8 @@ def config_from_args(args: argparse.Namespace) -> Config:
     """Prepare parsed arguments (robot_sim.app.cli.parse_args): load the robot and the
     world, check the options that need the robot, plan the pick task."""
     robot = load_robot_arg(args)
+    if args.ik_branches:
+        check_ik_branches(robot)
     if args.workspace:
         check_workspace(args.workspace, robot)
     try:
@@ -115,7 +118,18 @@ def config_from_args(args: argparse.Namespace) -> Config:
         world=world,
         collision=args.collision,
         trail=args.trail,
+        ik_branches=args.ik_branches,
     )
+
+
+def check_ik_branches(robot: RobotParams) -> None:
+    """CliError for --ik-branches on an arm without a closed-form IK (the analytic solver,
+    compiled with numba, is loaded only then)."""
+    from robot_sim.ik.family import ik_family
+
+    family = ik_family(robot)
+    if not family.closed_form:
+        raise CliError(f"--ik-branches: {robot.name} has no closed-form IK ({family.name})")
 
 
 def load_robot_arg(args: argparse.Namespace) -> RobotParams:
@@ -147,7 +161,7 @@ def session_spec(config: Config) -> SessionSpec:
     return SessionSpec(config.robot, size=config.size, q=config.q, theme=config.theme, look=config.look,
                        world=config.world, gains=config.gains, motion=config.motion, simulate=config.simulate,
                        frames=config.frames, wireframe=config.wireframe, collision=config.collision,
-                       annotate=config.annotate, trail=config.trail, pick=pick,
+                       annotate=config.annotate, trail=config.trail, ik_branches=config.ik_branches, pick=pick,
                        demo="circle" if config.demo == "circle" else None)
 
 

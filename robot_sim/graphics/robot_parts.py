@@ -30,8 +30,8 @@ from numpy.typing import NDArray
 from robot_sim.graphics import defs as gd
 from robot_sim.graphics.placements import along, spheres
 from robot_sim.kernels.model import per_robot
-from robot_sim.kinematics import forward_kinematics
-from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
+from robot_sim.kinematics import Kinematics, forward_kinematics
+from robot_sim.model.params import CONVENTION_STANDARD, JTYPE_PRISMATIC, RobotParams
 
 RGBA = tuple[float, float, float, float]
 
@@ -283,6 +283,15 @@ def differing(parts: list[Part], reference: list[Part], tol: float = gd.GHOST_TO
     ``tol`` (:func:`differing_masks`): what a ghost shows where it differs from the arm."""
     return [Part(part.mesh, part.color, part.placements[keep])
             for part, keep in zip(parts, differing_masks(parts, reference, tol))]
+
+
+def branch_label_point(kinematics: Kinematics) -> np.ndarray:
+    """Where a drawn branch's name is written (world, m): on the axis of its middle joint
+    j = ceil(n / 2) (the elbow of a 6-joint arm: where the arm postures differ most), at
+    the origin of the frame that joint turns (standard DH: frame j - 1; modified: frame j)."""
+    joint = (kinematics.robot.n_dofs + 1) // 2
+    index = joint - 1 if kinematics.robot.convention == CONVENTION_STANDARD else joint
+    return np.asarray(kinematics.frames[index][:3, 3], dtype=float)
 
 
 # corners of the unit meshes' bounding boxes (see robot_sim.graphics.meshes): z from 0 to 1 for the

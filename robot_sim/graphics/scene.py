@@ -125,7 +125,9 @@ class Scene:
     gripper and planned path (the endeffector sphere is then left out: the gripper is
     the endeffector), or None.  ``trail``: the endeffector's recent path (N, 3), drawn
     as a line in ``TRAIL_COLOR``, or None.  ``collision``: the collision display (key
-    C: collision shapes, contacts, the closest pair), or None.
+    C: collision shapes, contacts, the closest pair), or None.  ``branches``: the IK
+    target's analytic branches drawn at once (key Shift+B), each as a ghost labelled with
+    its posture name.
     """
 
     kinematics: Kinematics
@@ -137,4 +139,5 @@ class Scene:
     task: TaskScene | None = None
     trail: NDArray[np.float64] | None = None
     collision: CollisionScene | None = None
+    branches: list[tuple[Kinematics, str]] = field(default_factory=list)
 

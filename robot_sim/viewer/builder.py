@@ -45,7 +45,8 @@ class SessionSpec:
     ``simulate`` seconds first (None: kinematic); ``frames`` exactly the frames shown
     (n_dofs + 1 = endeffector; None: the base frame); ``annotate`` the joint (1..n) whose
     DH parameters are drawn; ``trail`` the endeffector trail; ``demo`` "circle" to start
-    the circle demo; ``pick`` a pick task to play; ``workspace`` a cloud to show.
+    the circle demo; ``pick`` a pick task to play; ``workspace`` a cloud to show;
+    ``ik_branches`` every analytic IK branch of the start pose drawn (key Shift+B).
     """
 
     robot: RobotParams
@@ -65,6 +66,7 @@ class SessionSpec:
     demo: str | None = None
     pick: PickShow | None = None
     workspace: go.WorkspaceCloud | None = None
+    ik_branches: bool = False
 
 
 def check_style(robot: RobotParams, theme: str | None, look: str | None) -> None:
@@ -79,7 +81,7 @@ def check_style(robot: RobotParams, theme: str | None, look: str | None) -> None
 
 def build_session(spec: SessionSpec) -> ViewerSession:
     """A session showing ``spec``, framed for all of it.  ValueError (nothing built) for a
-    bad theme, look or demo; ValueError from the motion mode when the dynamics refuse the
+    bad theme, look or demo; ValueError with the reason when ``ik_branches`` finds none; ValueError from the motion mode when the dynamics refuse the
     robot or the first ``simulate`` seconds stop at a joint's stop."""
     check_style(spec.robot, spec.theme, spec.look)
     if spec.demo not in (None, *DEMOS):
@@ -108,6 +110,10 @@ def build_session(spec: SessionSpec) -> ViewerSession:
         if spec.trail:
             session.toggle_trail()
     options.annotate_joint = spec.annotate
+    if spec.ik_branches:
+        shown = session.toggle_all_branches()
+        if isinstance(shown, str):
+            raise ValueError(shown)
     if spec.workspace is not None:
         session.workspace = spec.workspace
         options.show_workspace = True

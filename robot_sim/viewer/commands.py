@@ -115,6 +115,23 @@ def rotate_target(session: ViewerSession, axis_sign: tuple[int, int]) -> str | N
     return None if session.move_target(rpy=step) else UNREACHABLE
 
 
+def cycle_branch(session: ViewerSession, _: None) -> str:
+    """Show the IK target's next analytic branch as the ghost (ViewerSession.cycle_branch)."""
+    shown = session.cycle_branch()
+    if isinstance(shown, str):
+        return shown
+    index, count, name = shown
+    return f"IK branch {index + 1} of {count}: {name}"
+
+
+def toggle_all_branches(session: ViewerSession, _: None) -> str:
+    """Draw every analytic branch of the IK target at once, or stop."""
+    count = session.toggle_all_branches()
+    if isinstance(count, str):
+        return count
+    return f"all {count} IK branches shown" if count else "IK branches hidden"
+
+
 def go_home(session: ViewerSession, _: None) -> None:
     session.set_q(np.array(session.robot.q_home))
 
@@ -141,8 +158,11 @@ COMMANDS: dict[str, Command] = {
     "toggle_orthographic": toggle_orthographic,
     "toggle_follow": toggle_follow,
     "toggle_trail": toggle_trail,
+    "cycle_branch": cycle_branch,
+    "toggle_all_branches": toggle_all_branches,
     "go_home": go_home,
 }
 
 #: The commands that can set the arm moving (a view then starts stepping the session).
-STARTS_MOTION = frozenset({"toggle_demo", "toggle_target", "move_target", "rotate_target", "go_home"})
+STARTS_MOTION = frozenset({"toggle_demo", "toggle_target", "move_target", "rotate_target", "cycle_branch",
+                           "go_home"})

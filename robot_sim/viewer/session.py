@@ -28,6 +28,7 @@ from robot_sim.model.state import RobotState
 from robot_sim.model.world import World
 from robot_sim.transforms import HomogeneousTransform, rotation_log
 from robot_sim.viewer import settings as vs
+from robot_sim.viewer.branches import Branches, solve_branches
 from robot_sim.viewer.dh_table import carry_joint_values
 from robot_sim.viewer.drivers import Driver, StillDriver
 from robot_sim.viewer.drivers.base import OverDriver
@@ -107,6 +108,8 @@ class ViewerSession:
     trail: Trail | None = None
     #: Whether the camera's target follows the endeffector.
     follow: bool = False
+    #: The IK target's analytic branches (keys B, Shift+B), None until asked and after the target moves.
+    branches: Branches | None = None
     _motion: Motion | None = field(default=None, init=False, repr=False)
     _collision: CollisionDisplay | None = field(default=None, init=False, repr=False)
     #: Whether the joints were set (sliders, boxes, IK, --q): from then on the status bar
@@ -325,7 +328,7 @@ class ViewerSession:
         at the endeffector.  Returns whether it is shown."""
         shown = self.target_tf is None
         self.target_tf = HomogeneousTransform(self.kin.endeff_tf.mat.copy()) if shown else None
-        self.ik_result = None
+        self.ik_result, self.branches = None, None
         if self.task_space:
             if shown:
                 self.motion.follow(fixed_pose(self.target_tf))
@@ -348,6 +351,7 @@ class ViewerSession:
         if rpy is not None:
             mat[:3, :3] = HomogeneousTransform.from_xyz_rpy(np.zeros(3), rpy).R() @ mat[:3, :3]
         self.target_tf = HomogeneousTransform(mat)
+        self.branches = None
         if isinstance(self.driver, CircleDriver):
             self.driver = self.driver.inner
         if self.task_space:  # the controller takes the pose itself: no IK
@@ -365,6 +369,42 @@ class ViewerSession:
             self._posed = True
             self.update_kinematics()
         return self.ik_result.success
+
+    def _branches(self) -> Branches | str:
+        """The target's branches (shown at the endeffector if hidden), solved once per target
+        nearest to the arm's joints first; or the message saying why there are none."""
+        if self.target_tf is None:
+            self.toggle_target()
+        if self.branches is None:
+            found = solve_branches(self.robot, self.target_tf.mat, self.state.q())
+            if isinstance(found, str):
+                return found
+            self.branches = found
+        return self.branches
+
+    def cycle_branch(self) -> tuple[int, int, str] | str:
+        """Show the target's next analytic branch as the ghost (the desired q; after the last:
+        the first).  Returns (index, count, posture name), or the message why there is none."""
+        branches = self._branches()
+        if isinstance(branches, str):
+            return branches
+        index = branches.cycle()
+        self.state.set_q_des(branches.solutions.q[index])
+        self._posed = True
+        self.update_kinematics()
+        return index, len(branches.solutions), str(branches.solutions.branch[index])
+
+    def toggle_all_branches(self) -> int | str:
+        """Draw every analytic branch of the target at once, translucent and labelled, or
+        stop.  Returns how many are drawn (0: stopped), or the message why there are none."""
+        if self.branches is not None and self.branches.show_all:
+            self.branches.show_all = False
+            return 0
+        branches = self._branches()
+        if isinstance(branches, str):
+            return branches
+        branches.show_all = True
+        return len(branches.solutions)
 
     def move_target_in_view(self, dx_px: float, dy_px: float, height_px: int) -> bool:
         """Move the target by a mouse drag of (dx, dy) pixels (x right, y down) in the view plane."""
@@ -393,7 +433,7 @@ class ViewerSession:
         ``mode`` (control.MOTION_MODES)."""
         from robot_sim.viewer.drivers.pick import PickDemo, PickDriver  # the planner: numba
 
-        self.target_tf, self.ik_result = None, None
+        self.target_tf, self.ik_result, self.branches = None, None, None
         self.driver = PickDriver(PickDemo(plan, effort, mode=mode), self.driver.base)
         self.show_pick_at(time)
         self.pick.playing = self.pick.time < self.pick.duration
@@ -469,6 +509,7 @@ class ViewerSession:
             task=None if self.pick is None else self.pick.task_scene(),
             collision=self.collision.scene(self.state.q()) if self.options.show_collision else None,
             trail=None if self.trail is None else self.trail.points(),
+            branches=self.branches.ghosts(self.robot) if self.branches is not None and self.branches.show_all else [],
         )
 
     def status_text(self, fps_text: str) -> str:

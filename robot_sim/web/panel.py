@@ -2,7 +2,8 @@
 
 Robot chooser (asking about unsaved DH edits first, as the window does), motion mode,
 view toggles (frames, labels, wireframe, look, collision display, trail, IK target,
-annotated joint), the IK target as a draggable gizmo, joint sliders, the DH table (each
+annotated joint), the IK target's analytic branches (the window's keys B and Shift+B as
+buttons), the IK target as a draggable gizmo, joint sliders, the DH table (each
 cell a text box validated by robot_sim.viewer.dh_table, refused edits answered with the
 window's message), the pick task's timeline and the readout.  Every page sees the same
 session; a handler runs under the backend's lock and never lets an exception out
@@ -24,6 +25,7 @@ from robot_sim.io.robot_writer import to_toml
 from robot_sim.kinematics import manipulability
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.transforms import quaternion_from_rot, rot_from_quaternion, rpy_from_rot
+from robot_sim.viewer.commands import COMMANDS
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable
 from robot_sim.viewer.readout import pose_readout
 from robot_sim.viewer.session import ViewerSession, display_range, display_scale, wrap_display
@@ -90,6 +92,10 @@ class WebPanel:
             self.trail_box.on_update(self._trail_toggled)
             self.target_box = gui.add_checkbox("IK target", False)
             self.target_box.on_update(self._target_toggled)
+            self.branch_button = gui.add_button("next IK branch (B)")
+            self.branch_button.on_click(self._branch_clicked)
+            self.branches_button = gui.add_button("all IK branches (Shift+B)")
+            self.branches_button.on_click(self._branches_clicked)
             self.annotate_box = gui.add_dropdown("annotate joint", (NO_JOINT,), initial_value=NO_JOINT)
             self.annotate_box.on_update(self._annotate_chosen)
         with gui.add_folder("Pick task") as self.pick_folder:
@@ -310,6 +316,14 @@ class WebPanel:
     def _target_toggled(self, event: Any) -> None:
         if event.client is not None and bool(event.target.value) != (self.session.target_tf is not None):
             self.session.toggle_target()
+
+    @guarded
+    def _branch_clicked(self, event: Any) -> None:
+        self.say(COMMANDS["cycle_branch"](self.session, None))
+
+    @guarded
+    def _branches_clicked(self, event: Any) -> None:
+        self.say(COMMANDS["toggle_all_branches"](self.session, None))
 
     @guarded
     def _annotate_chosen(self, event: Any) -> None:

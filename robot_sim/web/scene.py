@@ -23,7 +23,7 @@ from robot_sim.graphics.floor_grid import FloorGrid
 from robot_sim.graphics.frame_axes import axes_placements, frame_labels, frames_and_names
 from robot_sim.graphics.looks import look_for
 from robot_sim.graphics.placements import spheres
-from robot_sim.graphics.robot_parts import differing_masks, robot_look, robot_reach
+from robot_sim.graphics.robot_parts import branch_label_point, differing_masks, robot_look, robot_reach
 from robot_sim.graphics.solid import posed_parts
 from robot_sim.graphics.task_scene import obstacle_placements, task_parts
 from robot_sim.graphics.themes import theme
@@ -133,18 +133,24 @@ class WebScene:
                                  opacity=alpha, wireframe=options.wireframe, visible=shown)
 
     def _sync_ghost(self, scene: Any, look: str, options: Any) -> None:
-        if scene.ghost is None or not options.show_ghost:
+        """The ghost and the IK branches drawn at once (Shift+B), each labelled."""
+        ghosts = ([] if scene.ghost is None else [scene.ghost]) + [kin for kin, _ in scene.branches]
+        if not ghosts or not options.show_ghost:
             self.ghost_layer.update([])
+            self._sync_labels("/ghost/labels", [])
             return
         shape = "solid" if look == "solid" else "dh"
         reference = posed_parts(scene.kinematics, shape, options.show_com)
-        ghost = posed_parts(scene.ghost, shape, options.show_com)
-        masks = differing_masks(ghost, reference)
-        if scene.task is not None:
-            masks = [m & (p.color != gd.ENDEFF_COLOR) for m, p in zip(masks, ghost)]
-        self.ghost_layer.update([(p.mesh, gd.GHOST_COLOR, p.placements) for p in ghost],
-                                opacities=[np.where(m, gd.GHOST_COLOR[3], 0.0) for m in masks],
-                                wireframe=options.wireframe)
+        parts, opacities = [], []
+        for kin in ghosts:
+            ghost = posed_parts(kin, shape, options.show_com)
+            masks = differing_masks(ghost, reference)
+            if scene.task is not None:
+                masks = [m & (p.color != gd.ENDEFF_COLOR) for m, p in zip(masks, ghost)]
+            parts += [(p.mesh, gd.GHOST_COLOR, p.placements) for p in ghost]
+            opacities += [np.where(m, gd.GHOST_COLOR[3], 0.0) for m in masks]
+        self.ghost_layer.update(parts, opacities=opacities, wireframe=options.wireframe)
+        self._sync_labels("/ghost/labels", [(branch_label_point(kin), name) for kin, name in scene.branches])
 
     def _sync_frames(self, kin: Any, options: Any) -> None:
         frames, names = frames_and_names(kin, options.show_frames, options.show_endeff_frame)

@@ -273,3 +273,31 @@ def test_in_process_runs_leave_the_test_process_as_it_was(tmp_path: Path, monkey
     assert read_png(tmp_path / "here.png").shape[:2] == (24, 32)
     assert run("--robot", "planar3", "--print-dh").stdout.startswith("Three-link planar arm: 3 joints (R R R)")
     assert (dict(os.environ), os.getcwd(), sys.stdout, sys.stderr) == before
+
+
+def test_ik_branches_draws_the_branches_of_the_q_pose(tmp_path: Path) -> None:
+    def shot(name: str, *args: str) -> np.ndarray:
+        out = tmp_path / f"{name}.png"
+        result = run("--robot", "puma560", "--q", "30,50,-100,20,30,-20", "--size", "320x240",
+                     "--screenshot", str(out), *args)
+        assert result.returncode == 0, result.stderr
+        return read_png(out)
+
+    plain, branches = shot("plain"), shot("branches", "--ik-branches")
+    # the translucent ghost colour (GHOST_COLOR, cyan) over the dark background: bluish pixels appear
+    added = np.any(branches != plain, axis=2) & (branches[..., 2].astype(int) > branches[..., 0].astype(int) + 40)
+    assert added.sum() > 200
+
+
+def test_ik_branches_of_an_arm_without_a_closed_form_is_one_line(tmp_path: Path) -> None:
+    from robot_sim.io.robot_writer import to_toml
+    from robot_sim.model.params import RobotParams
+
+    arm = RobotParams.from_arrays("general", [0.3, 0.2, 0.4, 0.15, 0.25, 0.1], [0.4, 1.1, -0.7, 0.9, -1.2, 0.5],
+                                  [0.2, 0.15, 0.1, 0.25, 0.12, 0.18], np.zeros(6), np.zeros(6))
+    path = tmp_path / "general.toml"
+    path.write_text(to_toml(arm))
+    out = tmp_path / "never.png"
+    assert_one_line_error(run("--robot", str(path), "--ik-branches", "--screenshot", str(out)),
+                          "--ik-branches: general has no closed-form IK (general 6R)")
+    assert not out.exists()

@@ -287,7 +287,7 @@ def test_follow_keeps_the_camera_on_the_endeffector(app: Any, planar: Any) -> No
 
 
 def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
-    press(app, Qt.Key_B)
+    press(app, Qt.Key_F, Qt.ShiftModifier)
     slider = planar.joints.rows[0].slider
     start = planar.session.kin.endeff_tf.t().copy()
     for deg in range(10, 71, 2):
@@ -304,7 +304,7 @@ def test_trail_draws_the_endeffector_path(app: Any, planar: Any) -> None:
     assert 2 <= x < width - 2 and 2 <= y < height - 2
     window = image[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
-    press(app, Qt.Key_B)
+    press(app, Qt.Key_F, Qt.ShiftModifier)
     assert planar.session.trail is None
     window = grab(planar)[y - 2:y + 3, x - 2:x + 3, :3].astype(int)
     assert not np.any(np.all(np.abs(window - trail_rgb) <= 3, axis=-1))
@@ -398,3 +398,22 @@ def test_p_saves_into_the_screenshots_folder_and_says_where(app: Any, planar: An
     assert planar.message_label.text() == f"screenshot saved to {saved[0]}"
     assert planar.message_label.isVisible()
     assert (ROOT / ".gitignore").read_text().splitlines().count(f"{qs.SCREENSHOT_DIR}/") == 1
+
+
+def test_keys_b_and_shift_b_show_the_ik_branches(app: Any) -> None:
+    win = open_window(app, "--robot", "puma560", "--q", "30,50,-100,20,30,-20")
+    session = win.session
+    before = grab(win)
+    press(app, Qt.Key_B)
+    sols = session.branches.solutions
+    assert win.message_label.text() == f"IK branch 1 of {len(sols)}: {sols.branch[0]}"
+    np.testing.assert_array_equal(session.state.q_des(), sols.q[0])
+    press(app, Qt.Key_B)
+    np.testing.assert_array_equal(session.state.q_des(), sols.q[1])
+    press(app, Qt.Key_B, Qt.ShiftModifier)
+    assert win.message_label.text() == f"all {len(sols)} IK branches shown"
+    assert len(session.scene().branches) == len(sols) >= 2
+    assert np.count_nonzero(np.any(grab(win) != before, axis=2)) > 200
+    press(app, Qt.Key_B, Qt.ShiftModifier)
+    assert win.message_label.text() == "IK branches hidden" and session.scene().branches == []
+    win.close()

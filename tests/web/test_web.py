@@ -272,3 +272,32 @@ def test_what_a_page_sends_is_checked_before_use(tmp_path: Path) -> None:
         assert panel.message == "annotate joint: expected one of none, 1, 2, 3, 4, 5, 6, got '7'"
     finally:
         viewer.close()
+
+
+def test_the_panel_buttons_cycle_and_draw_the_ik_branches_as_keys_b_and_shift_b() -> None:
+    from types import SimpleNamespace
+
+    from robot_sim.viewer.commands import COMMANDS
+    from robot_sim.web.serve import WebViewer
+
+    q = np.radians([30.0, 50.0, -100.0, 20.0, 30.0, -20.0])
+    twin = ViewerSession(load_robot("puma560"))  # the same presses through the Qt-free commands
+    twin.set_q(q)
+    session = ViewerSession(load_robot("puma560"))
+    session.set_q(q)
+    viewer = WebViewer(session, "puma560", host="127.0.0.1", port=None)
+    panel, click = viewer.panel, SimpleNamespace(client=object())
+    try:
+        for _ in range(3):
+            panel._branch_clicked(click)
+            assert panel.message == COMMANDS["cycle_branch"](twin, None)
+            assert panel.message.startswith("IK branch ")
+            np.testing.assert_array_equal(session.state.q_des(), twin.state.q_des())
+        panel._branches_clicked(click)
+        assert panel.message == COMMANDS["toggle_all_branches"](twin, None)
+        viewer.backend.refresh()
+        labels = [h for h in viewer.backend.view._labels["/ghost/labels"] if h.visible]
+        assert sorted(h.text for h in labels) == sorted(name for _, name in session.scene().branches)
+        assert len(labels) == len(twin.branches.solutions) >= 2
+    finally:
+        viewer.close()
