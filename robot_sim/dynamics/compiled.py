@@ -31,14 +31,8 @@ from robot_sim.kernels.model import (
     CA, CNEG, CPOS, HX, HY, HZ, IXX, IXY, IXZ, IYY, IYZ, IZZ, MASS, MOD, QHI, QLO, REFL, REV, SA, SVX, SVY, SVZ,
     SWX, SWY, SWZ, TH, VISC, A, D,
 )
+from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
 
-#: Status codes of :func:`step_batch` per configuration: stepped; a stage state or an
-#: acceleration not finite; (with ``stops``) stepped from a start on no stop but beyond a
-#: limit at the end; (with ``stops``) not stepped, its start on a stop needs what the
-#: kernel does not do (an impact, a one-point range, a release, or an arrival while held);
-#: (:func:`ct_step_batch`) the command was not finite.
-#: (with ``stops``) stepped as OK, some joint exactly on a limit at the end.
-OK, BAD_STATE, BAD_ACCEL, CROSSED, AT_STOP, BAD_EFFORT, ON_LIMIT = 0, 1, 2, 3, 4, 5, 6
 _NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
 

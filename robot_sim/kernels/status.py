@@ -1,5 +1,5 @@
 """The status of one arm's integration step, as the compiled stepper
-(``robot_sim.dynamics.compiled``, whose kernels carry the same numbers), the physics loop
+(``robot_sim.dynamics.compiled``, whose kernels return these numbers), the physics loop
 and the controllers that integrate their own law (``Controller.integrate``) report it.
 No numba here: a controller module can name a status without compiling anything.
 

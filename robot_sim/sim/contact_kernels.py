@@ -16,7 +16,8 @@ import numpy as np
 from robot_sim.collision import layout as L
 from robot_sim.collision.batch import _pose, _workspace
 from robot_sim.collision.narrow import core_ends, pair_distance
-from robot_sim.dynamics.compiled import BAD_ACCEL, BAD_STATE, OK, all_finite, fd_one, step_work
+from robot_sim.dynamics.compiled import all_finite, fd_one, step_work
+from robot_sim.kernels.status import BAD_ACCEL, BAD_STATE, OK
 from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
 from robot_sim.kernels.jit import JIT, njit
 from robot_sim.kernels.model import MOD
