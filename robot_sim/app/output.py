@@ -16,7 +16,7 @@ from robot_sim.app.robot_cmds import dh_table_text, export
 from robot_sim.io import files as fileio
 from robot_sim.model.params import RobotParams
 from robot_sim.viewer import recording
-from robot_sim.viewer.session import compute_workspace
+from robot_sim.viewer.workspace_job import compute_workspace
 
 if TYPE_CHECKING:
     from robot_sim.qt.window import WindowOptions

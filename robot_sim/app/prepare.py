@@ -31,7 +31,8 @@ from robot_sim.model.messages import clip
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotDefinitionError, RobotParams
 from robot_sim.model.world import World
 from robot_sim.viewer.builder import PickShow, SessionSpec, build_session
-from robot_sim.viewer.session import ViewerSession, display_range, display_scale
+from robot_sim.viewer.session import ViewerSession
+from robot_sim.viewer.units import display_range, display_scale
 
 if TYPE_CHECKING:
     from robot_sim.planning.pick_task import TaskPlan

@@ -25,7 +25,7 @@ from robot_sim.qt.guard import guarded
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable, variable_column
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.io.robot_file import load_robot
-from robot_sim.viewer.session import display_range, display_scale
+from robot_sim.viewer.units import display_range, display_scale
 from robot_sim.io.files import write_atomic
 from robot_sim.io.robot_writer import save_robot
 from robot_sim.io.urdf_out import to_urdf

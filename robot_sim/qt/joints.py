@@ -20,7 +20,7 @@ from __future__ import annotations
 import functools
 import math
 import time
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,7 +29,10 @@ from PyQt5.QtCore import Qt
 
 from robot_sim.qt import settings as qs
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
-from robot_sim.viewer.session import display_range, display_scale, wrap_display
+from robot_sim.viewer.units import display_range, display_scale, wrap_display
+
+if TYPE_CHECKING:
+    from robot_sim.viewer.motion import Motion
 
 
 class JointBox(QtWidgets.QDoubleSpinBox):
@@ -199,7 +202,7 @@ class JointPanel(QtWidgets.QWidget):
         """Flash joint ``joint``'s name (it hit a limit)."""
         self.flash_until[joint] = time.monotonic() + qs.LIMIT_FLASH_MS / 1000.0
 
-    def sync_efforts(self, motion: Any | None) -> None:
+    def sync_efforts(self, motion: Motion | None) -> None:
         """Bars from ``motion`` (a motion.Motion, or None in kinematic mode) and flashes."""
         now = time.monotonic()
         for i, row in enumerate(self.rows):

@@ -13,7 +13,6 @@ robot_sim.viewer.commands), the pick demo (``window_pick``).
 """
 from __future__ import annotations
 
-import math
 import sys
 import time
 from dataclasses import dataclass
@@ -25,7 +24,6 @@ from PyQt5.QtCore import Qt
 
 from robot_sim import graphics as go
 from robot_sim.control.controllers import MOTION_LABELS
-from robot_sim.kinematics import manipulability
 from robot_sim.qt import settings as qs
 from robot_sim.qt.elided_label import ElidedLabel
 from robot_sim.qt.gl_view import GLView
@@ -38,9 +36,9 @@ from robot_sim.qt.window_actions import WindowActions
 from robot_sim.qt.window_pick import PickControls
 from robot_sim.qt.window_robots import APP_NAME, RobotFiles
 from robot_sim.viewer.commands import UNREACHABLE
-from robot_sim.viewer.readout import pose_readout
-from robot_sim.viewer.session import ViewerSession, compute_workspace
-from robot_sim.viewer.workspace_job import IDLE, WorkspaceJob
+from robot_sim.viewer.readout import session_readout
+from robot_sim.viewer.session import ViewerSession
+from robot_sim.viewer.workspace_job import IDLE, WorkspaceJob, compute_workspace
 
 __all__ = ["APP_NAME", "MainWindow", "WINDOW_SIZE", "WindowOptions", "opening_size", "run_window"]
 
@@ -156,17 +154,9 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
     def sync_widgets(self) -> None:
         """Show the session's q, pose and frame options on the widgets, and paint."""
         session = self.session
-        q = session.state.q()
-        endeff = session.kin.endeff_tf
-        self.joints.show_q(session.state.q_des() if session.physical else q)  # physical: the set point
-        self.dh_dock.show_q(q)
-        try:
-            measure = manipulability(session.robot, q, session.kin.jacobian)
-        except ValueError:  # arms under 6 joints probe their range: an unlimited slider has none
-            measure = math.nan
-        collision = self.session.collision_readout()
-        readout = pose_readout(endeff, measure, session.tracking_error())
-        self.readout.setText(readout + ("" if collision is None else "\n" + collision))
+        self.joints.show_q(session.q_set_point())  # physical: the controller's set point
+        self.dh_dock.show_q(session.state.q())
+        self.readout.setText(session_readout(session))
         self.robot_dock.show_frames(session.options)
         self.sync_pick()
         self.sync_motion()
@@ -205,15 +195,12 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
     @guarded
     def joint_moved(self, joint: int, value: float) -> None:
         """A slider or box moved joint ``joint`` to ``value`` (rad or m); in a physical
-        motion mode it sets the controller's desired value."""
-        if self.session.physical:
-            q_des = self.session.state.q_des()
-            q_des[joint] = value
-            self.session.set_q(q_des)
+        motion mode it sets the controller's desired value (ViewerSession.q_set_point)."""
+        self.session.set_joint(joint, value)
+        if self.session.moving():
             self.start_motion()
         else:
             self.timer.stop()
-            self.session.set_joint(joint, value)
         self.sync_widgets()
 
     @guarded
@@ -237,11 +224,10 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
     def show_motion_mode(self) -> None:
         """The chooser names the session's motion mode, or the mode of the simulated pick
         run being replayed; effort bars in physical modes."""
-        session, pick = self.session, self.session.pick
-        replayed = not session.physical and pick is not None and pick.effort is not None
-        mode = session.motion.mode if session.physical else (pick.mode if replayed else "kinematic")
-        self.motion_panel.show_mode(mode, replayed)
-        self.joints.show_efforts(session.physical)
+        driver = self.session.driver
+        replayed = driver.replayed_mode
+        self.motion_panel.show_mode(driver.mode if replayed is None else replayed, replayed is not None)
+        self.joints.show_efforts(driver.physical)
 
     def sync_motion(self) -> None:
         """Effort bars, and a flash and a message for each joint-limit arrival."""
@@ -249,7 +235,7 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
             self.joints.flash(event.joint)
             self.message(f"joint {event.joint + 1} hit its {event.side} limit at t = {event.time:.3f} s")
         self.session.limit_events.clear()
-        self.joints.sync_efforts(self.session.motion if self.session.physical else None)
+        self.joints.sync_efforts(self.session.driver.motion)
 
     @guarded
     def set_q(self, q: np.ndarray) -> None:
@@ -283,7 +269,7 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
     def drag(self, dx: int, dy: int, buttons: Qt.MouseButtons, modifiers: Qt.KeyboardModifiers) -> None:
         """Mouse drag of (dx, dy) pixels: left orbits, Ctrl+left moves the IK target,
         Shift+left moves the pull's anchor (physical modes), right or middle pans."""
-        if buttons & Qt.LeftButton and self.session.physical and self.session.motion.pull_point is not None:
+        if buttons & Qt.LeftButton and self.session.pulling:
             self.session.move_pull_in_view(dx, dy, self.view.pixel_size()[1])
         elif buttons & Qt.LeftButton and modifiers & Qt.ControlModifier:
             self.move_target_by(lambda: self.session.move_target_in_view(dx, dy, self.view.pixel_size()[1]))
@@ -296,16 +282,16 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
     def press(self, buttons: Qt.MouseButtons, modifiers: Qt.KeyboardModifiers) -> None:
         """Shift+left press in a physical mode starts pulling the endeffector."""
         if buttons & Qt.LeftButton and modifiers & Qt.ShiftModifier:
-            if self.session.physical:
+            try:
                 self.session.start_pull()
-                self.start_motion()
+            except ValueError as exc:  # the still arm: nothing to pull
+                self.message(str(exc))
             else:
-                self.message("pulling needs a physical motion mode: press Shift+M")
+                self.start_motion()
 
     def release(self) -> None:
         """Mouse released: let go of the endeffector."""
-        if self.session.physical:
-            self.session.motion.end_pull()
+        self.session.end_pull()
         self.view.update()
 
     def move_target_by(self, move: Callable[[], bool]) -> None:
@@ -326,7 +312,7 @@ class MainWindow(RobotFiles, PickControls, WindowActions, QtWidgets.QMainWindow)
         elapsed = now - self.last_tick
         # the simulation keeps wall-clock time itself (Simulation.advance caps a lag);
         # the kinematic animation takes bounded steps
-        dt = elapsed if self.session.physical else min(max(elapsed, 1e-3), 4 * qs.ANIM_INTERVAL_MS / 1000.0)
+        dt = self.session.driver.wall_step(elapsed, 4 * qs.ANIM_INTERVAL_MS / 1000.0)
         self.last_tick = now
         self.session.step(dt)
         if not self.session.moving():

@@ -15,7 +15,7 @@ Units: SI (rad, m, s, N, N·m); points in the world frame.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -25,6 +25,7 @@ from robot_sim.collision.checker import CollisionChecker
 from robot_sim.dynamics import GRAVITY
 from robot_sim.control.controllers import MOTION_LABELS, MOTION_MODES, Gains, control_gains
 from robot_sim.control.factory import make_controller
+from robot_sim.control.reference import Desired
 from robot_sim.model.estimate import estimate_inertials
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
@@ -77,7 +78,7 @@ class Motion:
         a desired tool pose, the state's desired joints' or :meth:`follow`'s."""
         return self.physical and self.sim.controller.space == "task"
 
-    def follow(self, reference: Any) -> None:
+    def follow(self, reference: Callable[[float], Desired] | None) -> None:
         """Under a task-space mode: follow ``reference`` (a task reference of the
         simulation's time, see robot_sim/control/reference.py) instead of the state's
         desired joints; None goes back to them."""

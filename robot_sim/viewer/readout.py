@@ -1,11 +1,17 @@
-"""The endeffector readout of the window: world pose as xyz, roll-pitch-yaw and a unit
-quaternion, and Yoshikawa's manipulability (no Qt)."""
+"""The endeffector readout of the window and the browser view: world pose as xyz,
+roll-pitch-yaw and a unit quaternion, Yoshikawa's manipulability, the tracking error and
+the collision display's minimum distance (no Qt)."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
-from robot_sim.viewer import settings as vs
+from robot_sim.kinematics import manipulability
 from robot_sim.transforms import HomogeneousTransform, quaternion_from_rot, rpy_from_rot
+from robot_sim.viewer import settings as vs
+
+if TYPE_CHECKING:
+    from robot_sim.viewer.session import ViewerSession
 
 
 def pose_readout(
@@ -25,3 +31,18 @@ def pose_readout(
     if tracking is not None:
         text += vs.READOUT_TRACKING_FORMAT.format(mm=1e3 * tracking[0], deg=math.degrees(tracking[1]))
     return text
+
+
+def session_readout(session: ViewerSession) -> str:
+    """The readout of what ``session`` shows: :func:`pose_readout` of its endeffector
+    (manipulability NaN where an arm under 6 joints has an unlimited joint without a
+    range to probe), the tracking error in a physical mode, and the minimum distance
+    while the collision display is shown."""
+    q = session.state.q()
+    try:
+        measure = manipulability(session.robot, q, session.kin.jacobian)
+    except ValueError:
+        measure = math.nan
+    text = pose_readout(session.kin.endeff_tf, measure, session.tracking_error())
+    collision = session.collision_readout()
+    return text if collision is None else text + "\n" + collision

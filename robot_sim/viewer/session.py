@@ -3,36 +3,39 @@ desired joint state, their kinematics, the camera, the graphics options, the IK 
 the workspace cloud, the endeffector trail and the one driver that moves the arm
 (robot_sim.viewer.drivers), and turns them into a ``robot_sim.graphics.Scene``.
 
+Whatever depends on what moves the arm (a still pose, a simulation, the circle demo, a
+pick task played) the session asks its driver; switching the motion mode or starting a
+demo replaces the driver, and the options, camera, trail and target stay.
+
 The Qt window (robot_sim.qt), the command line's ``--screenshot`` and ``--record``
 (robot_sim.app) and :class:`robot_sim.viewer.visualizer.Visualizer` all show a session;
 offscreen ones render it through OSMesa without importing Qt at all.
 
-Units: joint values are radians (revolute) and metres (prismatic) inside; the command
-line ``--q`` and the sliders use degrees for revolute joints and metres for prismatic
-ones (:func:`display_scale`).  Positions are in metres in the world frame.
+Units: joint values are radians (revolute) and metres (prismatic); positions are in
+metres in the world frame (display units: robot_sim.viewer.units).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from robot_sim import graphics as go
-from robot_sim.control.reference import fixed_pose
 from robot_sim.graphics import defs as gd
-from robot_sim.kinematics import IKResult, Kinematics, ik_position_only_required, solve_ik, workspace_points
-from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
+from robot_sim.kinematics import IKResult, Kinematics, ik_position_only_required
+from robot_sim.model.params import RobotParams
 from robot_sim.model.state import RobotState
 from robot_sim.model.world import World
 from robot_sim.transforms import HomogeneousTransform, rotation_log
 from robot_sim.viewer import settings as vs
-from robot_sim.viewer.branches import Branches, solve_branches
+from robot_sim.viewer.branches import Branches
 from robot_sim.viewer.dh_table import carry_joint_values
-from robot_sim.viewer.drivers import Driver, StillDriver
-from robot_sim.viewer.drivers.base import OverDriver
-from robot_sim.viewer.drivers.circle import CircleDriver, DemoCircle
+from robot_sim.viewer.drivers import Driver, StillDriver, motion_driver
+from robot_sim.viewer.drivers.circle import CircleDriver
+from robot_sim.viewer.drivers.circle_path import DemoCircle
+from robot_sim.viewer.target import TargetControl
 from robot_sim.viewer.trail import Trail
 
 if TYPE_CHECKING:  # these pull the planner, the checker and the simulation (numba): loaded on use
@@ -42,48 +45,19 @@ if TYPE_CHECKING:  # these pull the planner, the checker and the simulation (num
     from robot_sim.viewer.motion import Motion
     from robot_sim.viewer.pick_demo import PickDemo
 
-
-# --------------------------------------------------------------------------------------
-# units shared by the command line and the sliders
-# --------------------------------------------------------------------------------------
-def display_scale(robot: RobotParams) -> np.ndarray:
-    """Per-joint factor (n,) from SI joint values (rad, m) to display units (deg, m)."""
-    return np.where(robot.jtype == JTYPE_PRISMATIC, 1.0, 180.0 / math.pi)
+#: A drawn arrow: start (3,) and vector (3,) in the world [m], and its RGBA colour.
+Arrow = tuple[np.ndarray, np.ndarray, tuple[float, ...]]
 
 
-def display_range(robot: RobotParams) -> tuple[np.ndarray, np.ndarray]:
-    """Slider range (lo, hi), each (n,), in display units (deg, m).
-
-    Joint limits where finite; otherwise ±UNLIMITED_REVOLUTE_RANGE_DEG for revolute and
-    ±UNLIMITED_PRISMATIC_RANGE_M for prismatic joints.
-    """
-    prismatic = robot.jtype == JTYPE_PRISMATIC
-    default = np.where(prismatic, vs.UNLIMITED_PRISMATIC_RANGE_M, vs.UNLIMITED_REVOLUTE_RANGE_DEG)
-    scale = display_scale(robot)
-    lo = np.where(np.isfinite(robot.q_min), robot.q_min * scale, -default)
-    hi = np.where(np.isfinite(robot.q_max), robot.q_max * scale, default)
-    return lo, hi
-
-
-def wrap_display(robot: RobotParams, q: np.ndarray) -> np.ndarray:
-    """Joint values (n,) in display units; unlimited revolute joints wrapped to [-180, 180)."""
-    values = np.asarray(q, dtype=float) * display_scale(robot)
-    wrap = (robot.jtype != JTYPE_PRISMATIC) & ~np.isfinite(robot.q_min) & ~np.isfinite(robot.q_max)
-    return np.where(wrap, (values + 180.0) % 360.0 - 180.0, values)
-
-
-# --------------------------------------------------------------------------------------
-# the Qt-free session shown by the window, the command line and rs.Visualizer
-# --------------------------------------------------------------------------------------
 @dataclass
-class ViewerSession:
+class ViewerSession(TargetControl):
     """What a viewer shows, without Qt: one robot's state, kinematics, camera and options,
     what moves it (:attr:`driver`, one at a time), the endeffector trail and whether the
     camera follows the endeffector.
 
     ``state.joint_state`` is drawn as the robot, ``state.joint_state_des`` as the ghost.
-    The IK target ``target_tf`` is a world pose; moving it solves IK from the desired q and
-    the current q then follows with :meth:`step`.
+    The IK target ``target_tf`` is a world pose (robot_sim.viewer.target); moving it
+    solves IK from the desired q and the current q then follows with :meth:`step`.
     """
 
     robot: RobotParams
@@ -130,11 +104,6 @@ class ViewerSession:
         """Number of joint frames that can be shown: frame 0 (base) to frame n."""
         return self.robot.n_dofs + 1
 
-    @property
-    def target_reachable(self) -> bool:
-        """False when the last IK solve for the target failed."""
-        return self.ik_result is None or self.ik_result.success
-
     def update_kinematics(self) -> None:
         """Recompute the world frames of the current (robot) and desired (ghost) state;
         extend the trail and move a following camera's target to the endeffector."""
@@ -150,18 +119,14 @@ class ViewerSession:
         the arm at its current pose, the floor under its base, the drawn frames, the IK
         target and the workspace cloud when shown (world, m).  With ``on_annotation`` and
         a joint annotated, frame that joint's DH annotation and its two frames only, so
-        its dimensions, arcs and labels are large enough to read.  During the pick task
-        the camera turns about the vertical, if it must, until the table hides none of the
-        arm (pick_view.clear_view_azimuth)."""
+        its dimensions, arcs and labels are large enough to read.  The driver may turn
+        the camera first (during the pick task, until the table hides none of the arm)."""
         self.camera.reset()
         focus = go.annotation_points(self.scene(), self.options) if on_annotation else None
-        points = focus if focus is not None else go.visible_points(self.scene(), self.options)
-        if self.pick is not None and focus is None:
-            from robot_sim.viewer.pick_view import clear_view_azimuth  # the planner: numba
-
-            azimuth = clear_view_azimuth(self.camera, self.pick.plan, points, self.aspect)
-            self.camera.set_view(azimuth, self.camera.elevation_deg)
-        self.camera.fit(points, self.aspect)
+        if focus is None:
+            focus = go.visible_points(self.scene(), self.options)
+            self.driver.aim(self.camera, focus, self.aspect)
+        self.camera.fit(focus, self.aspect)
         if self.follow:
             self.camera.target = self.kin.endeff_tf.t().copy()
 
@@ -205,7 +170,7 @@ class ViewerSession:
             self.camera.target = self.kin.endeff_tf.t().copy()
         return self.follow
 
-    # ---- motion mode (kinematic or simulated, see motion.py) ----
+    # ---- the driver: motion mode and demos ----
     @property
     def motion(self) -> Motion:
         """The robot's motion modes and simulation, built on first use (dynamics are
@@ -226,54 +191,94 @@ class ViewerSession:
         """True in a task-space motion mode (operational space, impedance): the IK target,
         dragged, is the tool's desired pose itself (no IK), and the circle demo a Cartesian
         reference."""
-        return self.physical and self.motion.task_space
+        return self.driver.task_space
 
     @property
     def demo(self) -> DemoCircle | None:
         """The running circle demo, or None."""
-        return self.driver.circle if isinstance(self.driver, CircleDriver) else None
+        return self.driver.circle
 
     @property
     def pick(self) -> PickDemo | None:
         """The pick task being shown (played or paused), or None."""
-        return getattr(self.driver, "pick", None)
+        return self.driver.pick
 
     def set_motion(self, mode: str) -> None:
-        """Switch the motion mode (control.MOTION_MODES); a demo keeps running over the new
-        mode.  In a task-space mode a shown IK target becomes the tool's desired pose."""
+        """Switch the motion mode (control.MOTION_MODES): its driver replaces the motion
+        driver, under a demo if one runs (the demo keeps running over it).  In a
+        task-space mode a shown IK target becomes the tool's desired pose."""
         self.motion.set_mode(mode)
-        base: Driver = StillDriver()
-        if self.motion.physical:
-            from robot_sim.viewer.drivers.simulated import SimulationDriver
-
-            base = SimulationDriver(self.motion)
-        if isinstance(self.driver, OverDriver):
-            self.driver.inner = base
-        else:
-            self.driver = base
-        if self.task_space:
-            if isinstance(self.driver, CircleDriver):
-                self.driver.follow(self)
-            elif self.target_tf is not None:
-                self.motion.follow(fixed_pose(self.target_tf))
+        self.driver = self.driver.over(motion_driver(self.motion))
+        self.driver.engage(self)
         self.update_kinematics()
 
     def simulate(self, duration: float) -> None:
         """Simulate ``duration`` seconds at once in the physical mode set (``--duration``);
         ValueError in kinematic mode."""
-        if not self.physical:
-            raise ValueError("simulating needs a physical motion mode")
-        self.driver.base.simulate(self, duration)  # type: ignore[attr-defined]
+        self.driver.base.simulate(self, duration)
+
+    def toggle_demo(self) -> bool:
+        """Start the circle demo at the current endeffector position, or stop it (the arm
+        then rests where it is: a task-space controller holds it there)."""
+        if isinstance(self.driver, CircleDriver):
+            self.driver = self.driver.stop(self)
+            return False
+        self.driver = CircleDriver.start(self)
+        return True
+
+    def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None,
+                   mode: str = "kinematic") -> None:
+        """Show the pick task ``plan`` at ``time`` s (past the end: the final scene),
+        playing unless at the end; stops the circle demo and hides the IK target.
+        ``effort`` (N, n): the joint efforts when ``plan`` holds a run simulated in motion
+        ``mode`` (control.MOTION_MODES)."""
+        from robot_sim.viewer.drivers.pick import PickDriver  # the planner: numba
+
+        self.target_tf, self.ik_result, self.branches = None, None, None
+        self.driver = PickDriver.start(self, plan, time, effort, mode)
+        self.fit_camera()
+
+    def show_pick_at(self, t: float) -> None:
+        """Put the arm (current and desired state) where the pick plan has it at ``t`` s;
+        ValueError without a pick task."""
+        self.driver.show_at(self, t)
+
+    # ---- joints ----
+    def set_q(self, q: np.ndarray) -> None:
+        """Set the joints (SI) by hand, e.g. from sliders: ends the circle demo, pauses the
+        pick task; kinematically current and desired q are set at rest, in a physical mode
+        only the desired q (the controller moves the arm).  A shown IK target snaps to the
+        new endeffector pose."""
+        self._posed = True
+        self.driver.set_q(self, q)
+
+    def q_set_point(self) -> np.ndarray:
+        """The joint values (n,) the sliders show and set: the arm's own kinematically,
+        the controller's desired ones in a physical mode."""
+        return self.driver.set_point(self)
+
+    def set_joint(self, index: int, value: float) -> None:
+        """Set joint ``index`` of :meth:`q_set_point` to ``value`` (rad or m) like :meth:`set_q`."""
+        q = self.q_set_point()
+        q[index] = value
+        self.set_q(q)
+
+    def moving(self) -> bool:
+        """True while the driver moves the arm: the current q has not reached the desired
+        q, a demo runs, or the simulation has not stopped."""
+        return self.driver.moving(self)
+
+    def step(self, dt: float) -> None:
+        """Advance whatever moves (the driver) by ``dt`` s of wall-clock time."""
+        self.driver.advance(self, dt)
 
     def tracking_error(self) -> tuple[float, float] | None:
         """In a physical mode, how far the tool is from its desired pose: position [m] and
         rotation angle [rad] (the desired pose of a task-space controller, else the tool
         pose of the desired joints); None in kinematic mode."""
-        if not self.physical:
-            return None
-        desired = self.motion.sim.desired_pose if self.task_space else None
+        desired = self.driver.desired_tool_pose(self)
         if desired is None:
-            desired = self.ghost.endeff_tf.mat
+            return None
         actual = self.kin.endeff_tf.mat
         rotation = rotation_log(desired[:3, :3] @ actual[:3, :3].T)
         return float(np.linalg.norm(desired[:3, 3] - actual[:3, 3])), float(np.linalg.norm(rotation))
@@ -298,153 +303,36 @@ class ViewerSession:
         """The readout's minimum-distance line while the collision display is shown."""
         return self.collision.readout(self.state.q()) if self.options.show_collision else None
 
-    # ---- joints ----
-    def set_q(self, q: np.ndarray) -> None:
-        """Set the joints (SI) by hand, e.g. from sliders: ends the circle demo, pauses the
-        pick task; kinematically current and desired q are set at rest, in a physical mode
-        only the desired q (the controller moves the arm).  A shown IK target snaps to the
-        new endeffector pose."""
-        self._posed = True
-        self.driver.set_q(self, q)
+    # ---- pulling the endeffector with the mouse (physical modes) ----
+    @property
+    def pulling(self) -> bool:
+        """True while the mouse pulls the endeffector."""
+        return self.driver.pull_point is not None
 
-    def set_joint(self, index: int, value: float) -> None:
-        """Set joint ``index`` to ``value`` (rad or m) like :meth:`set_q`."""
-        q = self.state.q()
-        q[index] = value
-        self.set_q(q)
+    def start_pull(self) -> None:
+        """Begin pulling the endeffector (physical modes only; ValueError otherwise)."""
+        self.driver.start_pull(self)
 
-    def moving(self) -> bool:
-        """True while the driver moves the arm: the current q has not reached the desired
-        q, a demo runs, or the simulation has not stopped."""
-        return self.driver.moving(self)
-
-    def step(self, dt: float) -> None:
-        """Advance whatever moves (the driver) by ``dt`` s of wall-clock time."""
-        self.driver.step(self, dt)
-
-    # ---- IK target ----
-    def toggle_target(self) -> bool:
-        """Show or hide the IK target and the ghost (the desired state); a new target starts
-        at the endeffector.  Returns whether it is shown."""
-        shown = self.target_tf is None
-        self.target_tf = HomogeneousTransform(self.kin.endeff_tf.mat.copy()) if shown else None
-        self.ik_result, self.branches = None, None
-        if self.task_space:
-            if shown:
-                self.motion.follow(fixed_pose(self.target_tf))
-            else:
-                self.driver.base.rest(self)
-        return shown
-
-    def move_target(self, translation: np.ndarray | None = None, rpy: np.ndarray | None = None) -> bool:
-        """Translate the target by ``translation`` (3,) m and rotate it about world axes
-        through its origin by ``rpy`` (3,) rad; then re-solve IK.  Shows a hidden target
-        and ends the circle demo.
-
-        Returns whether the target is reachable; if not, the ghost stays where it was.
-        """
-        if self.target_tf is None:
-            self.toggle_target()
-        mat = self.target_tf.mat.copy()
-        if translation is not None:
-            mat[:3, 3] += translation
-        if rpy is not None:
-            mat[:3, :3] = HomogeneousTransform.from_xyz_rpy(np.zeros(3), rpy).R() @ mat[:3, :3]
-        self.target_tf = HomogeneousTransform(mat)
-        self.branches = None
-        if isinstance(self.driver, CircleDriver):
-            self.driver = self.driver.inner
-        if self.task_space:  # the controller takes the pose itself: no IK
-            self.ik_result = None
-            self.motion.follow(fixed_pose(mat))
-            return True
-        self.ik_result = solve_ik(
-            self.robot,
-            self.target_tf,
-            q0=self.state.q_des(),
-            position_only=ik_position_only_required(self.robot),
-        )
-        if self.ik_result.success:
-            self.state.set_q_des(self.ik_result.q)
-            self._posed = True
-            self.update_kinematics()
-        return self.ik_result.success
-
-    def _branches(self) -> Branches | str:
-        """The target's branches (shown at the endeffector if hidden), solved once per target
-        nearest to the arm's joints first; or the message saying why there are none."""
-        if self.target_tf is None:
-            self.toggle_target()
-        if self.branches is None:
-            found = solve_branches(self.robot, self.target_tf.mat, self.state.q())
-            if isinstance(found, str):
-                return found
-            self.branches = found
-        return self.branches
-
-    def cycle_branch(self) -> tuple[int, int, str] | str:
-        """Show the target's next analytic branch as the ghost (the desired q; after the last:
-        the first).  Returns (index, count, posture name), or the message why there is none."""
-        branches = self._branches()
-        if isinstance(branches, str):
-            return branches
-        index = branches.cycle()
-        self.state.set_q_des(branches.solutions.q[index])
-        self._posed = True
-        self.update_kinematics()
-        return index, len(branches.solutions), str(branches.solutions.branch[index])
-
-    def toggle_all_branches(self) -> int | str:
-        """Draw every analytic branch of the target at once, translucent and labelled, or
-        stop.  Returns how many are drawn (0: stopped), or the message why there are none."""
-        if self.branches is not None and self.branches.show_all:
-            self.branches.show_all = False
-            return 0
-        branches = self._branches()
-        if isinstance(branches, str):
-            return branches
-        branches.show_all = True
-        return len(branches.solutions)
-
-    def move_target_in_view(self, dx_px: float, dy_px: float, height_px: int) -> bool:
-        """Move the target by a mouse drag of (dx, dy) pixels (x right, y down) in the view plane."""
+    def move_pull_in_view(self, dx_px: float, dy_px: float, height_px: int) -> None:
+        """Move the pull's anchor by a mouse drag of (dx, dy) pixels in the plane through it
+        facing the camera, so that it stays under the cursor (perspective included)."""
+        point = self.driver.pull_point
+        if point is None:
+            return
         right, up = self.camera.view_plane_axes()
-        scale = self.camera.world_per_pixel(height_px)
-        return self.move_target(translation=(dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
+        eye = np.asarray(self.camera.eye())
+        forward = np.asarray(self.camera.target) - eye
+        distance = float(np.linalg.norm(forward))
+        depth = float((point - eye) @ forward) / distance
+        scale = self.camera.world_per_pixel(height_px) * depth / distance
+        self.driver.move_pull(point + (dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
 
-    # ---- circle demo (differential IK) ----
-    def toggle_demo(self) -> bool:
-        """Start the circle demo at the current endeffector position, or stop it (the arm
-        then rests where it is: a task-space controller holds it there)."""
-        if isinstance(self.driver, CircleDriver):
-            self.driver = self.driver.inner
-            self.driver.rest(self)
-            self.update_kinematics()
-            return False
-        self.driver = CircleDriver.start(self)
-        return True
-
-    # ---- pick demo (planned task, scrubbed or played) ----
-    def start_pick(self, plan: TaskPlan, time: float = 0.0, effort: np.ndarray | None = None,
-                   mode: str = "kinematic") -> None:
-        """Show the pick task ``plan`` at ``time`` s (past the end: the final scene),
-        playing unless at the end; stops the circle demo and hides the IK target.
-        ``effort`` (N, n): the joint efforts when ``plan`` holds a run simulated in motion
-        ``mode`` (control.MOTION_MODES)."""
-        from robot_sim.viewer.drivers.pick import PickDemo, PickDriver  # the planner: numba
-
-        self.target_tf, self.ik_result, self.branches = None, None, None
-        self.driver = PickDriver(PickDemo(plan, effort, mode=mode), self.driver.base)
-        self.show_pick_at(time)
-        self.pick.playing = self.pick.time < self.pick.duration
-        self.fit_camera()
-
-    def show_pick_at(self, t: float) -> None:
-        """Put the arm (current and desired state) where the pick plan has it at ``t`` s."""
-        self.driver.show_at(self, t)  # type: ignore[attr-defined]
+    def end_pull(self) -> None:
+        """Let go of the endeffector."""
+        self.driver.end_pull()
 
     # ---- drawing ----
-    def velocity_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
+    def velocity_vectors(self) -> list[Arrow]:
         """Endeffector linear (m/s) and angular (rad/s) velocity arrows (world): each
         starts on the endeffector sphere's surface in its own direction, ``VECTOR_SCALE_*``
         metres long per unit, so the whole arrow shows outside the sphere."""
@@ -458,55 +346,25 @@ class ViewerSession:
             arrows.append((centre + (vec / norm * radius if norm > 0.0 else 0.0), vec, color))
         return arrows
 
-    def ghost_apart(self) -> bool:
-        """In a physical mode: True while the arm is visibly away from its desired state
-        (then the ghost shows the set point)."""
-        if not self.physical:
-            return False
-        return bool(np.any(np.abs(self.state.q_des() - self.state.q()) > gd.GHOST_APART_TOL))
-
-    def pull_vectors(self) -> list[tuple[np.ndarray, np.ndarray, tuple[float, ...]]]:
+    def pull_vectors(self) -> list[Arrow]:
         """The mouse pull's spring as an arrow from the endeffector to its anchor (world m)."""
-        if not self.physical or self.motion.pull_point is None:
+        point = self.driver.pull_point
+        if point is None:
             return []
         origin = self.kin.endeff_tf.t()
-        return [(origin, self.motion.pull_point - origin, gd.PULL_COLOR)]
-
-    def start_pull(self) -> None:
-        """Begin pulling the endeffector (physical modes only; ValueError otherwise)."""
-        if not self.physical:
-            raise ValueError("pulling needs a physical motion mode (press Shift+M)")
-        self.motion.start_pull()
-
-    def move_pull_in_view(self, dx_px: float, dy_px: float, height_px: int) -> None:
-        """Move the pull's anchor by a mouse drag of (dx, dy) pixels in the plane through it
-        facing the camera, so that it stays under the cursor (perspective included)."""
-        if not self.physical or self.motion.pull_point is None:
-            return
-        point = self.motion.pull_point
-        right, up = self.camera.view_plane_axes()
-        eye = np.asarray(self.camera.eye())
-        forward = np.asarray(self.camera.target) - eye
-        distance = float(np.linalg.norm(forward))
-        depth = float((point - eye) @ forward) / distance
-        scale = self.camera.world_per_pixel(height_px) * depth / distance
-        self.motion.move_pull(point + (dx_px * np.asarray(right) - dy_px * np.asarray(up)) * scale)
+        return [(origin, point - origin, gd.PULL_COLOR)]
 
     def scene(self) -> go.Scene:
-        """The robot_sim.graphics.Scene of the current state, the trail included."""
-        following = self.task_space and self.motion.sim.reference is not None
-        target = self.target_tf
-        if following and target is None and self.motion.sim.desired_pose is not None:
-            target = HomogeneousTransform(self.motion.sim.desired_pose.copy())  # the demo's moving pose
+        """The robot_sim.graphics.Scene of the current state, the trail included; the
+        ghost, the target drawn and the task are the driver's."""
         return go.Scene(
             self.kin,
-            # a task-space controller following a pose has no desired joints: the target shows it
-            ghost=None if following else (self.ghost if self.target_tf is not None or self.ghost_apart() else None),
-            target_tf=target,
+            ghost=self.driver.shown_ghost(self),
+            target_tf=self.driver.shown_target(self),
             target_reachable=self.target_reachable,
             vectors=(self.velocity_vectors() if self.options.show_vectors else []) + self.pull_vectors(),
             workspace=self.workspace,
-            task=None if self.pick is None else self.pick.task_scene(),
+            task=self.driver.task_scene(),
             collision=self.collision.scene(self.state.q()) if self.options.show_collision else None,
             trail=None if self.trail is None else self.trail.points(),
             branches=self.branches.ghosts(self.robot) if self.branches is not None and self.branches.show_all else [],
@@ -530,12 +388,3 @@ class ViewerSession:
         if self._motion is not None:
             text += " | " + self._motion.status_text()
         return text
-
-
-def compute_workspace(robot: RobotParams, n_points: int,
-                      cancelled: Callable[[], bool] | None = None) -> go.WorkspaceCloud:
-    """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by
-    manipulability; ``cancelled`` as in kinematics.workspace_points."""
-    points, manipulability = workspace_points(robot, n_points, seed=vs.WORKSPACE_SEED, cancelled=cancelled)
-    return go.WorkspaceCloud(points, manipulability)
-

@@ -19,12 +19,26 @@ cancelled or replaced are dropped.  This module imports neither Qt nor OpenGL.
 from __future__ import annotations
 
 import threading
-from typing import Any, Callable
+from typing import Callable
 
-from robot_sim.kinematics import WorkspaceCancelled
+from robot_sim.graphics.workspace import WorkspaceCloud
+from robot_sim.kinematics import WorkspaceCancelled, workspace_points
 from robot_sim.model.messages import clip
+from robot_sim.model.params import RobotParams
+from robot_sim.viewer import settings as vs
 
 IDLE, COMPUTING, SHOWN, HIDDEN, FAILED, CANCELLED = "idle", "computing", "shown", "hidden", "failed", "cancelled"
+
+#: What computes a cloud: (robot, number of points, cancelled) -> the cloud.
+Compute = Callable[[RobotParams, int, Callable[[], bool]], WorkspaceCloud]
+
+
+def compute_workspace(robot: RobotParams, n_points: int,
+                      cancelled: Callable[[], bool] | None = None) -> WorkspaceCloud:
+    """Workspace cloud of ``n_points`` endeffector positions (m, world) coloured by
+    manipulability; ``cancelled`` as in kinematics.workspace_points."""
+    points, manipulability = workspace_points(robot, n_points, seed=vs.WORKSPACE_SEED, cancelled=cancelled)
+    return WorkspaceCloud(points, manipulability)
 
 
 class WorkspaceJob:
@@ -35,20 +49,20 @@ class WorkspaceJob:
     is called from the worker thread when a computation ends (however it ends).
     """
 
-    def __init__(self, compute: Callable[[Any, int, Callable[[], bool]], Any], notify: Callable[[], None]) -> None:
+    def __init__(self, compute: Compute, notify: Callable[[], None]) -> None:
         self._compute = compute
         self._notify = notify
         self._lock = threading.Lock()
         self._generation = 0
         self._stop = threading.Event()
-        self._outcome: tuple[int, str, Any] | None = None  # (generation, state, cloud or message)
+        self._outcome: tuple[int, str, WorkspaceCloud | str] | None = None  # (generation, state, cloud or message)
         self._thread: threading.Thread | None = None
         self.state = IDLE
         self.message = ""
-        self.cloud: Any = None
+        self.cloud: WorkspaceCloud | None = None
 
     # ---- GUI thread ----
-    def start(self, robot: Any, n_points: int) -> None:
+    def start(self, robot: RobotParams, n_points: int) -> None:
         """Cancel whatever runs and start computing ``n_points`` for ``robot``."""
         self.cancel(quiet=True)
         with self._lock:
@@ -79,7 +93,7 @@ class WorkspaceJob:
         self.cancel(quiet=True)
         self.state, self.message, self.cloud = IDLE, "", None
 
-    def toggle(self, robot: Any, n_points: int) -> str:
+    def toggle(self, robot: RobotParams, n_points: int) -> str:
         """What key E does: start when there is no cloud, cancel while computing, show or
         hide a finished cloud.  Returns the new state."""
         if self.state == COMPUTING:
@@ -116,7 +130,7 @@ class WorkspaceJob:
         return True
 
     # ---- worker thread ----
-    def _work(self, generation: int, stop: threading.Event, robot: Any, n_points: int) -> None:
+    def _work(self, generation: int, stop: threading.Event, robot: RobotParams, n_points: int) -> None:
         try:
             outcome = (generation, SHOWN, self._compute(robot, n_points, stop.is_set))
         except WorkspaceCancelled:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import copy
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +20,10 @@ from robot_sim.web.camera import aim_initial_camera
 from robot_sim.web.scene import WebScene
 from robot_sim.web.server import start_server, stop_server
 
+if TYPE_CHECKING:
+    from robot_sim.planning.trajectory import Trajectory
+    from robot_sim.viewer.session import ViewerSession
+
 #: Frames per second of an exported motion unless told otherwise.
 EXPORT_FPS = 25.0
 #: At most this many frames (a bound on the file before any work starts).
@@ -27,10 +31,10 @@ MAX_EXPORT_FRAMES = 20_000
 MAX_EXPORT_FPS = 120.0
 
 
-def _posed_copy(session: Any) -> Any:
+def _posed_copy(session: ViewerSession) -> ViewerSession:
     """A copy of ``session`` to pose for the recording (its robot, world, options, target,
     camera and pick task; no simulation)."""
-    from robot_sim.viewer.session import ViewerSession
+    from robot_sim.viewer.session import ViewerSession  # loaded when a page is made
 
     twin = ViewerSession(session.robot, aspect=session.aspect, world=session.world)
     twin.options = copy.deepcopy(session.options)
@@ -57,7 +61,8 @@ def sample_times(duration: float, fps: float) -> np.ndarray:
     return times if times[-1] >= duration - 1e-9 else np.r_[times, duration]
 
 
-def export_html(session: Any, path: str | Path, trajectory: Any = None, fps: float | None = None) -> Path:
+def export_html(session: ViewerSession, path: str | Path, trajectory: Trajectory | None = None,
+                fps: float | None = None) -> Path:
     """Write ``session`` as a self-contained HTML page to ``path`` (atomically) and return
     the path; see :func:`export_page`.  ValueError for a name not ending in .html,
     FileWriteError for a place that cannot be written (both before any work)."""
@@ -69,7 +74,7 @@ def export_html(session: Any, path: str | Path, trajectory: Any = None, fps: flo
     return target
 
 
-def export_page(session: Any, trajectory: Any = None, fps: float | None = None) -> str:
+def export_page(session: ViewerSession, trajectory: Trajectory | None = None, fps: float | None = None) -> str:
     """``session`` as a self-contained HTML page (text).  ``trajectory``
     (robot_sim.planning.Trajectory): the motion played from its first to its last time;
     None: the session's pick task if it shows one, else the current pose alone.  ``fps``:

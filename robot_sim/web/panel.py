@@ -22,13 +22,13 @@ from robot_sim.graphics.looks import look_for, looks_of
 from robot_sim.graphics.robot_parts import robot_reach
 from robot_sim.io.robot_file import available_robots, load_robot
 from robot_sim.io.robot_writer import to_toml
-from robot_sim.kinematics import manipulability
 from robot_sim.model.params import RobotDefinitionError, RobotParams
 from robot_sim.transforms import quaternion_from_rot, rot_from_quaternion, rpy_from_rot
 from robot_sim.viewer.commands import COMMANDS
 from robot_sim.viewer.dh_table import COLUMNS, HEADERS, cell_text, edit_cell, is_editable
-from robot_sim.viewer.readout import pose_readout
-from robot_sim.viewer.session import ViewerSession, display_range, display_scale, wrap_display
+from robot_sim.viewer.readout import session_readout
+from robot_sim.viewer.session import ViewerSession
+from robot_sim.viewer.units import display_range, display_scale, wrap_display
 from robot_sim.web.guard import guarded
 
 #: The annotate chooser's entry for no joint.
@@ -273,7 +273,7 @@ class WebPanel:
         self.say(f"motion: {event.target.value}")
 
     def _mode(self) -> str:
-        return self.session.motion.mode if self.session.physical else "kinematic"
+        return self.session.driver.mode
 
     @guarded
     def _circle_clicked(self, event: Any) -> None:
@@ -389,10 +389,7 @@ class WebPanel:
             self.pick_time.max = float(pick.duration)
             self.pick_time.value = float(min(pick.time, pick.duration))
             self.pick_phase.content = PICK_FORMAT.format(phase=pick.plan.phase_at(pick.time), t=pick.time, duration=pick.duration)
-        q = session.state.q()
-        text = pose_readout(session.kin.endeff_tf, manipulability(robot, q, session.kin.jacobian), session.tracking_error())
-        extra = [line for line in (session.collision_readout(), session.status_text("web")) if line]
-        self.readout.content = "```\n" + "\n".join([text, *extra]) + "\n```"
+        self.readout.content = "```\n" + session_readout(session) + "\n" + session.status_text("web") + "\n```"
 
     def _sync_gizmo(self) -> None:
         target = self.session.target_tf

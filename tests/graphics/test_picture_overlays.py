@@ -19,7 +19,8 @@ from robot_sim.graphics.items.color_scale import color_scale_layout, value_texts
 from robot_sim.graphics.label_layout import boxes_overlap  # noqa: E402
 from robot_sim.graphics.vector_clip import VIEW_MARGIN, shown_vectors, visible_fraction  # noqa: E402
 from robot_sim.io.robot_file import load_robot  # noqa: E402
-from robot_sim.viewer.session import ViewerSession, compute_workspace  # noqa: E402
+from robot_sim.viewer.session import ViewerSession  # noqa: E402
+from robot_sim.viewer.workspace_job import compute_workspace  # noqa: E402
 
 W, H = 480, 360
 

@@ -20,7 +20,7 @@ from robot_sim.app import output, prepare  # noqa: E402
 from robot_sim.qt import window as viewer_window  # noqa: E402
 from robot_sim.qt.pick_panel import TIMELINE_MIN_WIDTH_PX  # noqa: E402
 from robot_sim.viewer.dh_table import COLUMNS, variable_column  # noqa: E402
-from robot_sim.viewer.session import display_range, display_scale  # noqa: E402
+from robot_sim.viewer.units import display_range, display_scale  # noqa: E402
 
 pytestmark = pytest.mark.window
 

@@ -128,12 +128,12 @@ def test_under_osc_dragging_the_target_moves_the_tool_there_without_ik(
     """Operational space: the dragged target is the tool's desired pose itself; IK is
     never called (it raises here), the ghost arm gives way to the target's pose, the tool
     arrives within 2 mm and the readout shows the Cartesian tracking error."""
-    import robot_sim.viewer.session as session_module
+    import robot_sim.viewer.target as target_module
 
     def no_ik(*args: Any, **kwargs: Any) -> Any:
         raise AssertionError("IK called under osc")
 
-    monkeypatch.setattr(session_module, "solve_ik", no_ik)
+    monkeypatch.setattr(target_module, "solve_ik", no_ik)
     win = _open(app, closing, "--robot", "humanoid7")
     win.motion_panel.combo.setCurrentIndex(MOTION_MODES.index("osc"))
     assert win.session.motion.mode == "osc" and win.session.task_space

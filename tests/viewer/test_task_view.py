@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-import robot_sim.viewer.session as session_module
-import robot_sim.viewer.drivers.circle as circle_module
+import robot_sim.viewer.target as target_module
+import robot_sim.viewer.drivers.circle_path as circle_module
 from kin_helpers import robot
 from robot_sim.sim.pick_run import simulate_pick
 from robot_sim.io.robot_file import load_robot
@@ -24,7 +24,7 @@ def _refuse(*args: Any, **kwargs: Any) -> Any:
 
 
 def test_moving_the_target_under_osc_is_followed_without_ik(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(session_module, "solve_ik", _refuse)
+    monkeypatch.setattr(target_module, "solve_ik", _refuse)
     session = ViewerSession(load_robot("ur5"))
     session.set_motion("osc")
     session.toggle_target()

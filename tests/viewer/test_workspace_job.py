@@ -10,7 +10,7 @@ import pytest
 from kin_helpers import robot as shipped
 from robot_sim.kinematics import WorkspaceCancelled, workspace_points
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
-from robot_sim.viewer.session import compute_workspace
+from robot_sim.viewer.workspace_job import compute_workspace
 from robot_sim.viewer.workspace_job import CANCELLED, COMPUTING, FAILED, HIDDEN, IDLE, SHOWN, WorkspaceJob
 
 

@@ -2,6 +2,7 @@
 bounded joint speed (ANIM_SPEED_*) and then rests.  Units: rad, m, s."""
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,11 +11,16 @@ from robot_sim.transforms import HomogeneousTransform
 from robot_sim.viewer import settings as vs
 from robot_sim.viewer.drivers.base import Driven, Driver
 
+if TYPE_CHECKING:
+    from robot_sim.viewer.drivers.circle_path import DemoCircle
+
 
 class StillDriver(Driver):
     """Kinematic motion: current q follows the desired q (the ghost) at bounded speed."""
 
-    def step(self, session: Driven, dt: float) -> None:
+    name = "still"
+
+    def advance(self, session: Driven, dt: float) -> None:
         """Move the current q toward the desired q at bounded joint speed for ``dt`` s."""
         state, robot = session.state, session.robot
         q, q_des = state.q(), state.q_des()
@@ -44,3 +50,12 @@ class StillDriver(Driver):
     def rest(self, session: Driven) -> None:
         """Zero joint velocities."""
         session.state.set_qd(np.zeros(session.robot.n_dofs))
+
+    def run_circle(self, session: Driven, circle: DemoCircle, dt: float) -> None:
+        """The circle moves the arm itself (current and desired q, and q̇)."""
+        state = session.state
+        q_new, qd = circle.joint_step(session.robot, state.q(), session.kin.endeff_tf.t(), dt)
+        state.set_q_des(q_new)
+        state.set_q(q_new)
+        state.set_qd(qd)
+        session.update_kinematics()
