@@ -11,7 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.classify import Plan, aux_rows, plan
-from robot_sim.ik.family import IKFamily, Solver, solver
+from robot_sim.ik.family import GENERAL_6R, IKFamily, Solver, solver
+from robot_sim.ik.general import NAMES, general_data, general_solutions
 from robot_sim.ik.pipeline import first_bad_pose, pack, run
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
@@ -160,16 +161,21 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q0.shape}")
     sv = solver(robot)
     p, values = _free_values(robot, sv, q0, free_joint, free_values)
-    if p is None:
+    names = sv.names
+    if p is None and sv.family.name == GENERAL_6R:  # every real root of Raghavan and Roth's polynomial
+        out, out_code, out_exact, out_count, needed = general_solutions(
+            general_data(robot, sv), robot, Ts, q0, bool(within_limits), EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
+        names = NAMES
+    elif p is None:
         raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
-    gf, gi = _packed(sv, p, values, robot)
-    out, out_code, out_exact, out_count, needed = run(
-        gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position", EXACT_TOL * max(sv.size, 1.0),
-        MAX_VALUES)
+    else:
+        gf, gi = _packed(sv, p, values, robot)
+        out, out_code, out_exact, out_count, needed = run(
+            gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position",
+            EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
     if needed > MAX_VALUES:
         raise ValueError(f"the solutions would hold {needed} joint values (at most {MAX_VALUES}): "
                          "solve fewer poses at a time, or with within_limits=False")
-    names = sv.names
     if single:
         k = int(out_count[0])
         return IKSolutions(out[0, :k], tuple(names[out_code[0, :k]].tolist()), out_exact[0, :k], k,
