@@ -23,10 +23,10 @@ robot's size):
    tangent of (q3 − φ)/2, φ chosen so that the largest sample sits at infinity.
 4. For each root: q4, q5 from the null vector of Σ(q3) (LU with complete pivoting), q1,
    q2 from the least-squares solution of the 14 equations, q6 from the rotation left;
-   then Newton (Levenberg–Marquardt) steps on the whole chain's pose error, to 1e-13.
+   then Newton (Levenberg–Marquardt) steps on the whole chain's pose error, to 1e-14.
 
 A pose out of reach has no real root: the critical points of the determinant take the
-roots' place, and the steps end at least-squares configurations.
+roots' place, and the steps end at local minima of |Δp|²/size² + |log(R_T Rᵀ)|².
 """
 from __future__ import annotations
 
@@ -44,9 +44,10 @@ from robot_sim.kernels.jit import INLINE, JIT
 #: Samples of the determinant (17 coefficients of a degree-8 trigonometric polynomial; an
 #: even count so that rolling the samples by half a turn keeps the grid).
 SAMPLES = 18
-#: Most Newton steps per candidate, and the pose error [m or rad, position over the
-#: robot's size] at which they stop.
-STEPS = 30
+#: Most Levenberg–Marquardt steps per candidate (a least-squares descent toward a pose
+#: out of reach may take many), and the pose error at which they stop: |Δp|/size and
+#: |log(R_T Rᵀ)| combined [m / m, rad].
+STEPS = 200
 STOP = 1e-14
 #: Critical points of the determinant within this (relative) of zero are candidates.
 NEAR = 1e-9
