@@ -371,27 +371,21 @@ def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray
 
 
 @numba.njit(**JIT)
-def candidates(T: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray, E1: np.ndarray,
-               E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray, RM: np.ndarray,
-               u6: np.ndarray, table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray,
-               out: np.ndarray) -> int:
-    """The polished candidates of one pose T (world, 4 × 4) into out (MAX_CANDIDATES, 6);
-    returns their number.  The arguments are those :mod:`robot_sim.ik.general` prepares
-    per robot (module docstring)."""
-    Q = np.empty((14, 9))
-    rhs_coefficients(T, inv_size, axis6, E1, E2, O, Vi, Q)
-    A = Q[:, :8].copy()
-    V = np.empty((14, 8))
-    beta = np.empty(8)
+def eliminate(Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray, E1: np.ndarray, E2: np.ndarray,
+              O: np.ndarray, Vi: np.ndarray, Q: np.ndarray, A: np.ndarray, V: np.ndarray, beta: np.ndarray,
+              G: np.ndarray) -> None:
+    """Steps 1-3 of the module docstring for the pose Te: Q (14, 9) the right side's
+    coefficients, A (14, 8) and V, beta the Householder QR of its eight product columns,
+    G (6, 3, 9) the six equations as (equation, s3 | c3 | 1, x4^i x5^j) coefficients."""
+    rhs_coefficients(Te, inv_size, axis6, E1, E2, O, Vi, Q)
+    A[:, :] = Q[:, :8]
     householder(A, V, beta)
     B = C.copy()  # C x345 − q_const = Q8 x12
     for r in range(14):
         B[r, 26] -= Q[r, 8]
     apply_qt(V, beta, B)
-    # Σ: rows 8-13 of Qᵀ B, as (equation, s3 | c3 | 1, x4^i x5^j)
-    G = np.zeros((6, 3, 9))
     half = np.array([[0.0, 1.0, 1.0], [2.0, 0.0, 0.0], [0.0, -1.0, 1.0]])  # (s, c, 1) → (1, x, x²)·(1 + x²)
-    for e in range(6):
+    for e in range(6):  # rows 8-13 of Qᵀ B
         for a in range(3):
             for i in range(3):
                 for j in range(3):
@@ -400,6 +394,24 @@ def candidates(T: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
                         for c in range(3):
                             acc += half[i, b] * half[j, c] * B[8 + e, 9 * a + 3 * b + c]
                     G[e, a, 3 * i + j] = acc
+
+
+@numba.njit(**JIT)
+def candidates(T: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
+               E1: np.ndarray, E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray,
+               RM: np.ndarray, u6: np.ndarray, reverse: bool, table: np.ndarray, modified: bool, base: np.ndarray,
+               tool: np.ndarray, out: np.ndarray) -> int:
+    """The polished candidates of one pose T (world, 4 × 4) into out (MAX_CANDIDATES, 6);
+    returns their number.  The elimination solves the pose Te of the chain it was
+    prepared for: T itself, or T⁻¹ for the chain read from the tool back (``reverse``,
+    whose joint values come in the reverse order).  The arguments are those
+    :mod:`robot_sim.ik.general` prepares per robot (module docstring)."""
+    Q = np.empty((14, 9))
+    A = np.empty((14, 8))
+    V = np.empty((14, 8))
+    beta = np.empty(8)
+    G = np.empty((6, 3, 9))
+    eliminate(Te, inv_size, C, axis6, E1, E2, O, Vi, Q, A, V, beta, G)
     S = np.empty((12, 12))
     f = np.empty(SAMPLES)
     m = 0
@@ -427,7 +439,7 @@ def candidates(T: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
     RT = np.empty((3, 3))
     for a in range(3):
         for b in range(3):
-            RT[a, b] = T[a, 0] * RM[0, b] + T[a, 1] * RM[1, b] + T[a, 2] * RM[2, b]
+            RT[a, b] = Te[a, 0] * RM[0, b] + Te[a, 1] * RM[1, b] + Te[a, 2] * RM[2, b]
     count = 0
     for k in range(starts.shape[0]):
         q = out[count]
@@ -459,27 +471,30 @@ def candidates(T: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
         q[5] = last_angle(H, q, RT, u6)
         if not np.isfinite(q).all():
             continue
+        if reverse:
+            q[:] = q[::-1].copy()
         polish(table, modified, base, tool, T, inv_size, q)
         count += 1
     return count
 
 
 @numba.njit(**JIT)
-def solve_general(Ts: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray, E1: np.ndarray,
-                  E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray, RM: np.ndarray,
-                  u6: np.ndarray, table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray,
+def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
+                  E1: np.ndarray, E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray,
+                  RM: np.ndarray, u6: np.ndarray, reverse: bool, table: np.ndarray, modified: bool, base: np.ndarray,
+                  tool: np.ndarray,
                   Hs: np.ndarray, Ps: np.ndarray, rev: np.ndarray, Ms: np.ndarray, q0: np.ndarray,
                   lo: np.ndarray, hi: np.ndarray, within: bool, tol: float, max_values: int) -> tuple:
-    """Every solution of each pose Ts[i] (N, 4, 4), as :func:`robot_sim.ik.pipeline.run`
-    returns them: (q (N, K, 6) NaN-padded nearest q0 first, code, exact, count, needed).
+    """Every solution of each pose Ts[i] (N, 4, 4) (Te: the poses the elimination solves,
+    see :func:`candidates`), as :func:`robot_sim.ik.pipeline.run` returns them: (q (N, K, 6) NaN-padded nearest q0 first, code, exact, count, needed).
     A branch's code is its number in the order of its q3 in (−π, π]."""
     N = Ts.shape[0]
     raw = np.full((N, MAX_CANDIDATES, 6), np.nan)
     code = np.zeros((N, MAX_CANDIDATES), dtype=np.int64)
     count = np.zeros(N, dtype=np.int64)
     for i in range(N):
-        got = candidates(Ts[i], inv_size, C, axis6, E1, E2, O, Vi, W, H, RM, u6, table, modified, base, tool,
-                         raw[i])
+        got = candidates(Ts[i], Te[i], inv_size, C, axis6, E1, E2, O, Vi, W, H, RM, u6, reverse, table, modified,
+                         base, tool, raw[i])
         for k in range(got):  # wrapped to (−π, π], ordered by q3
             for j in range(6):
                 raw[i, k, j] = nearest_turn(raw[i, k, j], 0.0)

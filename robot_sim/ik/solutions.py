@@ -150,7 +150,9 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     A batch is solved in compiled code, one loop over the poses; its result equals the
     single-pose results bit for bit.  Raises ValueError for a T that is not a 4×4 rigid
     transform (or a stack of them), NaN, a q0 of the wrong length, an arm without a
-    closed form, and free-joint arguments that do not apply.
+    closed form, and free-joint arguments that do not apply.  A general 6R arm (no closed
+    form) gets every real solution by Raghavan and Roth's elimination
+    (:mod:`robot_sim.ik.general`), named "solution k" in the order of q3.
     """
     if not isinstance(robot, RobotParams):
         raise ValueError(f"ik_solutions needs a RobotParams, got {type(robot).__name__}")
@@ -162,10 +164,14 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     sv = solver(robot)
     p, values = _free_values(robot, sv, q0, free_joint, free_values)
     names = sv.names
-    if p is None and sv.family.name == GENERAL_6R:  # every real root of Raghavan and Roth's polynomial
+    general = general_data(robot, sv) if p is None and sv.family.name == GENERAL_6R else None
+    if general is not None:  # every real root of Raghavan and Roth's polynomial
         out, out_code, out_exact, out_count, needed = general_solutions(
-            general_data(robot, sv), robot, Ts, q0, bool(within_limits), EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
+            general, robot, Ts, q0, bool(within_limits), EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
         names = NAMES
+    elif p is None and sv.family.name == GENERAL_6R:
+        raise ValueError(f"{robot.name}: a general 6R whose axes 1, 2 and axes 5, 6 both meet or run parallel "
+                         "has no elimination here; use solve_ik")
     elif p is None:
         raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
     else:

@@ -20,12 +20,19 @@ TABLES = 10  # random tables per convention
 POSES = 50  # random configurations per table: 2 × 10 × 50 = 1000 in all
 
 
-def general_6r(rng: np.random.Generator, convention: str) -> RobotParams:
+def general_6r(rng: np.random.Generator, convention: str, special: tuple[str, ...] = ()) -> RobotParams:
     """A random 6R table with no two axes meeting or parallel (twists 0.3-2.8 rad, every
-    length nonzero), and a random base and tool, in the given convention."""
+    length nonzero), and a random base and tool, in the given convention.  ``special``
+    makes axes 1, 2 ("1-2 parallel", "1-2 meet") or 5, 6 ("5-6 parallel") so."""
     a = rng.uniform(0.05, 0.5, 6) * rng.choice([-1.0, 1.0], 6)
     d = rng.uniform(0.05, 0.4, 6) * rng.choice([-1.0, 1.0], 6)
     alpha = rng.uniform(0.3, 2.8, 6) * rng.choice([-1.0, 1.0], 6)
+    if "1-2 parallel" in special:
+        alpha[0] = 0.0
+    if "1-2 meet" in special:
+        a[0] = d[1] = 0.0
+    if "5-6 parallel" in special:
+        alpha[4] = 0.0
 
     def tf() -> HomogeneousTransform:
         return HomogeneousTransform.from_rt(rot_from_rpy(rng.uniform(-np.pi, np.pi, 3)), rng.uniform(-0.3, 0.3, 3))
@@ -54,6 +61,29 @@ def test_random_general_6r_complete(convention: str) -> None:
         counts.append(check_complete(robot, Q, within_limits=True))
         check_complete(robot, Q[:5], within_limits=False)
     assert sum(counts) >= 2 * TABLES * POSES  # solutions come in pairs at least
+
+
+@pytest.mark.parametrize("special", ["1-2 parallel", "1-2 meet"])
+def test_axes_1_and_2_special_solved_read_from_the_tool(special: str) -> None:
+    """Where axes 1 and 2 meet or run parallel the elimination's determinant vanishes for
+    every q3; the chain read from the tool back is solved instead, just as completely."""
+    rng = np.random.default_rng(31)
+    for convention in CONVENTIONS:
+        robot = general_6r(rng, convention, (special,))
+        assert ik_family(robot).name == "general 6R"
+        check_complete(robot, rng.uniform(-np.pi, np.pi, (40, 6)))
+
+
+def test_both_ends_special_is_left_to_the_numerical_ik() -> None:
+    rng = np.random.default_rng(32)
+    robot = general_6r(rng, "standard", ("1-2 parallel", "5-6 parallel"))
+    assert ik_family(robot).name == "general 6R"
+    T = forward_kinematics(robot, rng.uniform(-np.pi, np.pi, 6))
+    with pytest.raises(ValueError, match="random 6R: a general 6R whose axes 1, 2 and axes 5, 6 both meet or run "
+                                         "parallel has no elimination here; use solve_ik"):
+        ik_solutions(robot, T)
+    result = solve_ik(robot, T)
+    assert result.success and "analytic" not in result.message
 
 
 #: Manocha & Canny, "Efficient inverse kinematics for general 6R manipulators", IEEE
