@@ -35,20 +35,15 @@ import math
 import numba
 import numpy as np
 
+from robot_sim.ik.dense import apply_qt, determinant, householder, null_vector
 from robot_sim.ik.finish import expand, nearest_turn, screen
+from robot_sim.ik.polish import polish
 from robot_sim.ik.realroots import real_roots
-from robot_sim.kernels.algebra import cholesky_solve
-from robot_sim.kernels.chain import frames, jacobian_and_bias, tool_pose
 from robot_sim.kernels.jit import INLINE, JIT
 
 #: Samples of the determinant (17 coefficients of a degree-8 trigonometric polynomial; an
 #: even count so that rolling the samples by half a turn keeps the grid).
 SAMPLES = 18
-#: Most Levenberg–Marquardt steps per candidate (a least-squares descent toward a pose
-#: out of reach may take many), and the pose error at which they stop: |Δp|/size and
-#: |log(R_T Rᵀ)| combined [m / m, rad].
-STEPS = 200
-STOP = 1e-14
 #: Critical points of the determinant within this (relative) of zero are candidates.
 NEAR = 1e-9
 #: Candidates per pose: 16 roots and up to 15 near-tangent critical points.
@@ -64,6 +59,19 @@ def _quantities(px: float, py: float, pz: float, lx: float, ly: float, lz: float
     out[6], out[7] = pp, pl
     out[8], out[9], out[10] = py * lz - pz * ly, pz * lx - px * lz, px * ly - py * lx
     out[11], out[12], out[13] = pp * lx - 2.0 * pl * px, pp * ly - 2.0 * pl * py, pp * lz - 2.0 * pl * pz
+
+
+@numba.njit(**INLINE)
+def _change_basis(M: np.ndarray, src: np.ndarray, out: np.ndarray) -> None:
+    """out[3i + j] = Σ M[i, a] M[j, b] src[3a + b]: the 3 × 3 change of basis M applied to
+    both factors of a product basis."""
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for a in range(3):
+                for b in range(3):
+                    acc += M[i, a] * M[j, b] * src[3 * a + b]
+            out[3 * i + j] = acc
 
 
 @numba.njit(**JIT)
@@ -94,54 +102,7 @@ def rhs_coefficients(T: np.ndarray, inv_size: float, tool: np.ndarray, E1: np.nd
             _apply(E2[b], ly, False, lz)
             _quantities(z[0] - O[0], z[1] - O[1], z[2] - O[2], lz[0], lz[1], lz[2], F[a, b])
     for r in range(14):
-        for i in range(3):
-            for j in range(3):
-                acc = 0.0
-                for a in range(3):
-                    for b in range(3):
-                        acc += Vi[i, a] * Vi[j, b] * F[a, b, r]
-                Q[r, 3 * i + j] = acc
-
-
-@numba.njit(**JIT)
-def householder(A: np.ndarray, V: np.ndarray, beta: np.ndarray) -> None:
-    """Householder QR of A (m, k) in place: R in A's upper triangle, the reflectors'
-    vectors in V's columns (V[:, j] zero above j) and their factors in beta."""
-    m, k = A.shape
-    for j in range(k):
-        norm = 0.0
-        for i in range(j, m):
-            norm += A[i, j] * A[i, j]
-        norm = math.sqrt(norm)
-        alpha = -norm if A[j, j] >= 0.0 else norm
-        for i in range(m):
-            V[i, j] = A[i, j] if i > j else 0.0
-        V[j, j] = A[j, j] - alpha
-        vv = 0.0
-        for i in range(j, m):
-            vv += V[i, j] * V[i, j]
-        beta[j] = 2.0 / vv if vv > 0.0 else 0.0
-        for c in range(j, k):
-            dot = 0.0
-            for i in range(j, m):
-                dot += V[i, j] * A[i, c]
-            dot *= beta[j]
-            for i in range(j, m):
-                A[i, c] -= dot * V[i, j]
-
-
-@numba.njit(**JIT)
-def apply_qt(V: np.ndarray, beta: np.ndarray, B: np.ndarray) -> None:
-    """B ← Qᵀ B for the reflectors of :func:`householder` (B (m, c) in place)."""
-    m = V.shape[0]
-    for j in range(V.shape[1]):
-        for c in range(B.shape[1]):
-            dot = 0.0
-            for i in range(j, m):
-                dot += V[i, j] * B[i, c]
-            dot *= beta[j]
-            for i in range(j, m):
-                B[i, c] -= dot * V[i, j]
+        _change_basis(Vi, F[:, :, r].copy().reshape(9), Q[r])
 
 
 @numba.njit(**JIT)
@@ -155,64 +116,6 @@ def sigma(G: np.ndarray, theta: float, S: np.ndarray) -> None:
             v = G[e, 0, k] * s + G[e, 1, k] * c + G[e, 2, k]
             S[e, k] = v
             S[e + 6, k + 3] = v
-
-
-@numba.njit(**JIT)
-def determinant(S: np.ndarray) -> float:
-    """det S by LU with partial pivoting (S is overwritten)."""
-    n = S.shape[0]
-    det = 1.0
-    for k in range(n):
-        p = k
-        for i in range(k + 1, n):
-            if abs(S[i, k]) > abs(S[p, k]):
-                p = i
-        if S[p, k] == 0.0:
-            return 0.0
-        if p != k:
-            det = -det
-            for c in range(k, n):
-                S[k, c], S[p, c] = S[p, c], S[k, c]
-        det *= S[k, k]
-        for i in range(k + 1, n):
-            f = S[i, k] / S[k, k]
-            for c in range(k + 1, n):
-                S[i, c] -= f * S[k, c]
-    return det
-
-
-@numba.njit(**JIT)
-def null_vector(S: np.ndarray, z: np.ndarray) -> None:
-    """z: a vector with S z ≈ 0 for a (nearly) rank-deficient S, by LU with complete
-    pivoting (the last pivot taken as zero); S is overwritten."""
-    n = S.shape[0]
-    col = np.arange(n)
-    for k in range(n - 1):
-        pi, pj, best = k, k, -1.0
-        for i in range(k, n):
-            for j in range(k, n):
-                if abs(S[i, j]) > best:
-                    best, pi, pj = abs(S[i, j]), i, j
-        if best == 0.0:
-            break
-        for c in range(n):
-            S[k, c], S[pi, c] = S[pi, c], S[k, c]
-        for r in range(n):
-            S[r, k], S[r, pj] = S[r, pj], S[r, k]
-        col[k], col[pj] = col[pj], col[k]
-        for i in range(k + 1, n):
-            f = S[i, k] / S[k, k]
-            for c in range(k + 1, n):
-                S[i, c] -= f * S[k, c]
-    y = np.zeros(n)
-    y[n - 1] = 1.0
-    for k in range(n - 2, -1, -1):
-        acc = 0.0
-        for c in range(k + 1, n):
-            acc += S[k, c] * y[c]
-        y[k] = -acc / S[k, k] if S[k, k] != 0.0 else 0.0
-    for k in range(n):
-        z[col[k]] = y[k]
 
 
 @numba.njit(**INLINE)
@@ -278,99 +181,6 @@ def last_angle(H: np.ndarray, q: np.ndarray, RT: np.ndarray, u: np.ndarray) -> f
 
 
 @numba.njit(**JIT)
-def pose_error(X: np.ndarray, T: np.ndarray, inv_size: float, e: np.ndarray) -> float:
-    """e = [(t_T − t_X)/size; log(R_T R_Xᵀ)] and its norm."""
-    for a in range(3):
-        e[a] = (T[a, 3] - X[a, 3]) * inv_size
-    E = np.empty((3, 3))
-    for a in range(3):
-        for b in range(3):
-            E[a, b] = T[a, 0] * X[b, 0] + T[a, 1] * X[b, 1] + T[a, 2] * X[b, 2]
-    wx, wy, wz = 0.5 * (E[2, 1] - E[1, 2]), 0.5 * (E[0, 2] - E[2, 0]), 0.5 * (E[1, 0] - E[0, 1])
-    sn = math.sqrt(wx * wx + wy * wy + wz * wz)
-    cs = 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0)
-    angle = math.atan2(sn, cs)
-    f = angle / sn if sn > 1e-12 else 1.0
-    if cs < 0.0 and sn <= 1e-12:  # a half turn: any axis of the symmetric part
-        k = 0
-        for a in range(3):
-            if E[a, a] > E[k, k]:
-                k = a
-        wx, wy, wz = E[0, k] + E[k, 0], E[1, k] + E[k, 1], E[2, k] + E[k, 2]
-        norm = math.sqrt(wx * wx + wy * wy + wz * wz)
-        f = math.pi / norm
-    e[3], e[4], e[5] = f * wx, f * wy, f * wz
-    total = 0.0
-    for a in range(6):
-        total += e[a] * e[a]
-    return math.sqrt(total)
-
-
-@numba.njit(**JIT)
-def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray, T: np.ndarray,
-           inv_size: float, q: np.ndarray) -> float:
-    """Levenberg–Marquardt steps on q (in place) toward the pose T; returns the last pose
-    error (see :func:`pose_error`).  Forward kinematics and the Jacobian are the package's
-    one chain kernel (:mod:`robot_sim.kernels.chain`)."""
-    n = q.shape[0]
-    F = np.empty((n + 1, 3, 4))
-    X = np.empty((4, 4))
-    J = np.empty((6, n))
-    jd = np.empty(6)
-    zero = np.zeros(n)
-    e = np.empty(6)
-    trial = np.empty(n)
-    dq = np.empty(n)
-    A = np.empty((n, n))
-    g = np.empty(n)
-    frames(table, modified, base, q, F)
-    tool_pose(F, tool, X)
-    err = pose_error(X, T, inv_size, e)
-    lam = 0.0
-    for _ in range(STEPS):
-        if err <= STOP:
-            break
-        jacobian_and_bias(table, modified, F, X[:3, 3], zero, J, jd)
-        for r in range(3):
-            for c in range(n):
-                J[r, c] *= inv_size
-        for a in range(n):
-            g[a] = 0.0
-            for r in range(6):
-                g[a] += J[r, a] * e[r]
-            for b in range(n):
-                acc = 0.0
-                for r in range(6):
-                    acc += J[r, a] * J[r, b]
-                A[a, b] = acc
-        improved = False
-        for _ in range(8):
-            M = A.copy()
-            for a in range(n):
-                M[a, a] += lam * (1.0 + A[a, a])
-            cholesky_solve(M, g, dq)
-            for a in range(n):
-                trial[a] = q[a] + dq[a]
-            frames(table, modified, base, trial, F)
-            tool_pose(F, tool, X)
-            e_new = np.empty(6)
-            err_new = pose_error(X, T, inv_size, e_new)
-            if err_new < err:
-                q[:] = trial
-                e[:] = e_new
-                err = err_new
-                lam = lam * 0.1 if lam > 1e-12 else 0.0
-                improved = True
-                break
-            lam = max(lam * 10.0, 1e-9)
-        if not improved:
-            frames(table, modified, base, q, F)
-            tool_pose(F, tool, X)
-            break
-    return err
-
-
-@numba.njit(**JIT)
 def eliminate(Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray, E1: np.ndarray, E2: np.ndarray,
               O: np.ndarray, Vi: np.ndarray, Q: np.ndarray, A: np.ndarray, V: np.ndarray, beta: np.ndarray,
               G: np.ndarray) -> None:
@@ -387,13 +197,7 @@ def eliminate(Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
     half = np.array([[0.0, 1.0, 1.0], [2.0, 0.0, 0.0], [0.0, -1.0, 1.0]])  # (s, c, 1) → (1, x, x²)·(1 + x²)
     for e in range(6):  # rows 8-13 of Qᵀ B
         for a in range(3):
-            for i in range(3):
-                for j in range(3):
-                    acc = 0.0
-                    for b in range(3):
-                        for c in range(3):
-                            acc += half[i, b] * half[j, c] * B[8 + e, 9 * a + 3 * b + c]
-                    G[e, a, 3 * i + j] = acc
+            _change_basis(half, B[8 + e, 9 * a:9 * a + 9], G[e, a])
 
 
 @numba.njit(**JIT)
