@@ -286,12 +286,14 @@ def candidates(T: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray, ax
 def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray, axis6: np.ndarray,
                   E1: np.ndarray, E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray,
                   RM: np.ndarray, u6: np.ndarray, reverse: bool, table: np.ndarray, modified: bool, base: np.ndarray,
-                  tool: np.ndarray,
-                  Hs: np.ndarray, Ps: np.ndarray, rev: np.ndarray, Ms: np.ndarray, q0: np.ndarray,
+                  tool: np.ndarray, Hs: np.ndarray, Ps: np.ndarray, rev: np.ndarray, Ms: np.ndarray, q0: np.ndarray,
                   lo: np.ndarray, hi: np.ndarray, within: bool, tol: float, max_values: int) -> tuple:
     """Every solution of each pose Ts[i] (N, 4, 4) (Te: the poses the elimination solves,
-    see :func:`candidates`), as :func:`robot_sim.ik.pipeline.run` returns them: (q (N, K, 6) NaN-padded nearest q0 first, code, exact, count, needed).
-    A branch's code is its number in the order of its q3 in (−π, π]."""
+    see :func:`candidates`), as :func:`robot_sim.ik.pipeline.run` returns them: (q (N, K, 6)
+    NaN-padded nearest q0 first, code, exact, count, needed), checked and expanded by
+    :func:`robot_sim.ik.finish.screen` and :func:`robot_sim.ik.finish.expand` on the
+    chain's screws (Hs, Ps, rev, Ms).  A branch's code is its number in the order of its
+    q3 in (−π, π]."""
     N = Ts.shape[0]
     raw = np.full((N, MAX_CANDIDATES, 6), np.nan)
     code = np.zeros((N, MAX_CANDIDATES), dtype=np.int64)

@@ -34,12 +34,18 @@ def pose_error(X: np.ndarray, T: np.ndarray, inv_size: float, e: np.ndarray) -> 
     cs = 0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0)
     angle = math.atan2(sn, cs)
     f = angle / sn if sn > 1e-12 else 1.0
-    if cs < 0.0 and sn <= 1e-12:  # a half turn: any axis of the symmetric part
+    if cs < 0.0 and sn <= 1e-12:  # a half turn, E = 2hhᵀ − I: h along E's column k plus e_k
         k = 0
         for a in range(3):
             if E[a, a] > E[k, k]:
                 k = a
-        wx, wy, wz = E[0, k] + E[k, 0], E[1, k] + E[k, 1], E[2, k] + E[k, 2]
+        wx, wy, wz = E[0, k], E[1, k], E[2, k]
+        if k == 0:
+            wx += 1.0
+        elif k == 1:
+            wy += 1.0
+        else:
+            wz += 1.0
         norm = math.sqrt(wx * wx + wy * wy + wz * wz)
         f = math.pi / norm
     e[3], e[4], e[5] = f * wx, f * wy, f * wz
@@ -65,7 +71,9 @@ def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray
     trial = np.empty(n)
     dq = np.empty(n)
     A = np.empty((n, n))
+    M = np.empty((n, n))
     g = np.empty(n)
+    e_new = np.empty(6)
     frames(table, modified, base, q, F)
     tool_pose(F, tool, X)
     err = pose_error(X, T, inv_size, e)
@@ -88,7 +96,7 @@ def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray
                 A[a, b] = acc
         improved = False
         for _ in range(8):
-            M = A.copy()
+            M[:, :] = A
             for a in range(n):
                 M[a, a] += lam * (1.0 + A[a, a])
             cholesky_solve(M, g, dq)
@@ -96,7 +104,6 @@ def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray
                 trial[a] = q[a] + dq[a]
             frames(table, modified, base, trial, F)
             tool_pose(F, tool, X)
-            e_new = np.empty(6)
             err_new = pose_error(X, T, inv_size, e_new)
             if err_new < err:
                 q[:] = trial
