@@ -63,6 +63,21 @@ def test_random_general_6r_complete(convention: str) -> None:
     assert sum(counts) >= 2 * TABLES * POSES  # solutions come in pairs at least
 
 
+def test_limits_wider_than_a_turn_list_every_wrap() -> None:
+    """Joints limited to ±1.2π: each branch comes with every turn inside the limits, so the
+    generating configuration itself (not only modulo 2π) is among the solutions."""
+    rng = np.random.default_rng(30)
+    base = general_6r(rng, "modified")
+    robot = RobotParams.from_arrays("wide 6R", base.dh_a, base.dh_alpha, base.dh_d, base.dh_th, base.jtype,
+                                    convention="modified", q_min=np.full(6, -1.2 * np.pi),
+                                    q_max=np.full(6, 1.2 * np.pi), base_tf=base.base_tf, tool_tf=base.tool_tf)
+    Q = rng.uniform(-1.2 * np.pi, 1.2 * np.pi, (40, 6))
+    check_complete(robot, Q, within_limits=True)
+    raw = ik_solutions(robot, forward_kinematics(robot, Q[0]), within_limits=False)
+    wide = ik_solutions(robot, forward_kinematics(robot, Q[0]))
+    assert len(wide) > len(raw)  # 2^6 turn choices per branch at most, and some inside
+
+
 @pytest.mark.parametrize("special", ["1-2 parallel", "1-2 meet"])
 def test_axes_1_and_2_special_solved_read_from_the_tool(special: str) -> None:
     """Where axes 1 and 2 meet or run parallel the elimination's determinant vanishes for
