@@ -30,7 +30,8 @@ class IKFamily:
     """An arm's inverse-kinematics family.
 
     ``name`` is the family ("spherical wrist", "three parallel axes", "parallel axes",
-    "position arm", or "general" when no closed form applies); ``arm`` says how the
+    "position arm", or, when no closed form applies, "general 6R" for six revolute joints,
+    solved all the same by :mod:`robot_sim.ik.general`, and "general"); ``arm`` says how the
     first three axes meet where that matters; ``reversed`` that the structure shows when
     the chain is read from the tool back (a spherical shoulder, say); ``free_joint`` the
     0-based index of a 7-joint arm's free joint (None otherwise); ``task`` what the arm
