@@ -18,6 +18,8 @@ from robot_sim.kernels.jit import JIT
 #: combined [m / m, rad].
 STEPS = 200
 STOP = 1e-14
+#: An error below this that a full step does not lower is final (the limit of rounding).
+CONVERGED = 1e-12
 
 
 @numba.njit(**JIT)
@@ -111,6 +113,8 @@ def polish(table: np.ndarray, modified: bool, base: np.ndarray, tool: np.ndarray
                 err = err_new
                 lam = lam * 0.1 if lam > 1e-12 else 0.0
                 improved = True
+                break
+            if err <= CONVERGED:  # rounding, not the model, stops it: no damping will help
                 break
             lam = max(lam * 10.0, 1e-9)
         if not improved:
