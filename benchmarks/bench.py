@@ -33,6 +33,7 @@ from robot_sim.kinematics import (
 )
 from bench_dynamics import bench_dynamics  # noqa: E402
 from bench_ik_analytic import bench_ik_analytic  # noqa: E402
+from bench_ik_general import bench_ik_general  # noqa: E402
 from bench_planning import bench_planning  # noqa: E402
 from bench_trajectory import bench_trajectory  # noqa: E402
 from robot_sim.model.convert import to_modified, to_standard  # noqa: E402
@@ -242,6 +243,7 @@ def main() -> None:
     ik_robots = [load_robot(n) for n in available_robots()] + [limited_humanoid()]
     bench_ik(table, ik_robots, rng)
     bench_ik_analytic(table, median_iqr, ms, us)
+    bench_ik_general(table, median_iqr, ms, us)
     bench_trajectory(table, load_robot("ur5"), rng, measure, median_iqr, ms, us)
     bench_planning(table)
     bench_sim.bench_simulation(table, measure, median_iqr, us)

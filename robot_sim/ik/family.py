@@ -19,6 +19,8 @@ from robot_sim.model.params import RobotParams
 
 #: Raw branches per pose of each kernel.
 BRANCHES = {SPHERICAL_WRIST: 8, THREE_PARALLEL: 8, PARALLEL_AXES: 2, POSITION_ONLY: 4}
+#: The family of a 6R arm without a closed form (solved by :mod:`robot_sim.ik.general`).
+GENERAL_6R = "general 6R"
 KIND_NAMES = {SPHERICAL_WRIST: "spherical wrist", THREE_PARALLEL: "three parallel axes",
               PARALLEL_AXES: "parallel axes", POSITION_ONLY: "position arm"}
 
@@ -28,7 +30,8 @@ class IKFamily:
     """An arm's inverse-kinematics family.
 
     ``name`` is the family ("spherical wrist", "three parallel axes", "parallel axes",
-    "position arm", or "general" when no closed form applies); ``arm`` says how the
+    "position arm", or, when no closed form applies, "general 6R" for six revolute joints,
+    solved all the same by :mod:`robot_sim.ik.general`, and "general"); ``arm`` says how the
     first three axes meet where that matters; ``reversed`` that the structure shows when
     the chain is read from the tool back (a spherical shoulder, say); ``free_joint`` the
     0-based index of a 7-joint arm's free joint (None otherwise); ``task`` what the arm
@@ -104,7 +107,7 @@ def solver(robot: RobotParams) -> Solver:
     size = robot.size
     p = plan(S, size)
     if p is None:
-        name = "general 6R" if robot.n_dofs == 6 and S.revolute.all() else "general"
+        name = GENERAL_6R if robot.n_dofs == 6 and S.revolute.all() else "general"
         family = IKFamily(name, robot.n_dofs, False)
     else:
         task = {POSITION_ONLY: "position", PARALLEL_AXES: "planar pose"}.get(p.kind, "pose")

@@ -14,8 +14,9 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robot_sim.ik.family import solver
+from robot_sim.ik.family import GENERAL_6R, solver
 from robot_sim.ik.finish import TWO_PI
+from robot_sim.ik.general import general_data
 from robot_sim.ik.solutions import ik_solutions
 from robot_sim.kernels.jit import JIT
 from robot_sim.model.params import RobotParams
@@ -24,10 +25,13 @@ FloatArray = NDArray[np.float64]
 
 
 def answers(robot: RobotParams, position_only: bool) -> bool:
-    """True when the closed form solves exactly what is asked: the pose of a 6-joint arm,
-    or the position of a 3-joint position arm.  (A 7-joint arm's free joint, and the
-    redundancy of planar arms solved for position only, are left to the numerical IK.)"""
+    """True when the closed form solves exactly what is asked: the pose of a 6-joint arm
+    (a general 6R's by :mod:`robot_sim.ik.general`), or the position of a 3-joint
+    position arm.  (A 7-joint arm's free joint, and the redundancy of planar arms solved
+    for position only, are left to the numerical IK.)"""
     family = solver(robot).family
+    if family.name == GENERAL_6R:  # every real root of its polynomial: no closed form, still complete
+        return not position_only and general_data(robot, solver(robot)) is not None
     if not family.closed_form or family.free_joint is not None:
         return False
     return family.task == ("position" if position_only else "pose")

@@ -11,7 +11,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.classify import Plan, aux_rows, plan
-from robot_sim.ik.family import IKFamily, Solver, solver
+from robot_sim.ik.family import GENERAL_6R, IKFamily, Solver, solver
+from robot_sim.ik.general import NAMES, general_data, general_solutions
 from robot_sim.ik.pipeline import first_bad_pose, pack, run
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
@@ -149,7 +150,9 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     A batch is solved in compiled code, one loop over the poses; its result equals the
     single-pose results bit for bit.  Raises ValueError for a T that is not a 4×4 rigid
     transform (or a stack of them), NaN, a q0 of the wrong length, an arm without a
-    closed form, and free-joint arguments that do not apply.
+    closed form, and free-joint arguments that do not apply.  A general 6R arm (no closed
+    form) gets every real solution by Raghavan and Roth's elimination
+    (:mod:`robot_sim.ik.general`), named "solution k" in the order of q3.
     """
     if not isinstance(robot, RobotParams):
         raise ValueError(f"ik_solutions needs a RobotParams, got {type(robot).__name__}")
@@ -160,16 +163,25 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q0.shape}")
     sv = solver(robot)
     p, values = _free_values(robot, sv, q0, free_joint, free_values)
-    if p is None:
+    names = sv.names
+    general = general_data(robot, sv) if p is None and sv.family.name == GENERAL_6R else None
+    if general is not None:  # every real root of Raghavan and Roth's polynomial
+        out, out_code, out_exact, out_count, needed = general_solutions(
+            general, robot, Ts, q0, bool(within_limits), EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
+        names = NAMES
+    elif p is None and sv.family.name == GENERAL_6R:
+        raise ValueError(f"{robot.name}: a general 6R whose axes 1, 2 and axes 5, 6 both meet or run parallel "
+                         "has no elimination here; use solve_ik")
+    elif p is None:
         raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
-    gf, gi = _packed(sv, p, values, robot)
-    out, out_code, out_exact, out_count, needed = run(
-        gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position", EXACT_TOL * max(sv.size, 1.0),
-        MAX_VALUES)
+    else:
+        gf, gi = _packed(sv, p, values, robot)
+        out, out_code, out_exact, out_count, needed = run(
+            gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position",
+            EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
     if needed > MAX_VALUES:
         raise ValueError(f"the solutions would hold {needed} joint values (at most {MAX_VALUES}): "
                          "solve fewer poses at a time, or with within_limits=False")
-    names = sv.names
     if single:
         k = int(out_count[0])
         return IKSolutions(out[0, :k], tuple(names[out_code[0, :k]].tolist()), out_exact[0, :k], k,
