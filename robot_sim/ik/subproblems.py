@@ -59,12 +59,18 @@ def perp(k: Vec, a: Vec) -> Vec:
 
 
 @numba.njit(inline="always", **JIT)
-def rot(k: Vec, theta: float, x: Vec) -> Vec:
-    """R(k, θ) x by Rodrigues' formula."""
-    c, s = math.cos(theta), math.sin(theta)
+def rot_cs(k: Vec, c: float, s: float, x: Vec) -> Vec:
+    """R(k, θ) x by Rodrigues' formula, given c = cos θ and s = sin θ (so that solvers
+    turning by one angle many times take its cosine and sine once)."""
     kx = dot(k, x) * (1.0 - c)
     w = cross(k, x)
     return (c * x[0] + s * w[0] + kx * k[0], c * x[1] + s * w[1] + kx * k[1], c * x[2] + s * w[2] + kx * k[2])
+
+
+@numba.njit(inline="always", **JIT)
+def rot(k: Vec, theta: float, x: Vec) -> Vec:
+    """R(k, θ) x by Rodrigues' formula."""
+    return rot_cs(k, math.cos(theta), math.sin(theta), x)
 
 
 #: Below this length a vector has no direction (the subproblem's angle is free).

@@ -271,17 +271,16 @@ def solve_ik(
         lo, hi = np.array(robot.q_min), np.array(robot.q_max)
     else:
         lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
-    from robot_sim.ik.nearest import answers, nearest_exact  # closed form first, where the arm has one
+    from robot_sim.ik import nearest  # closed form first, where the arm has one (ik imports kinematics)
 
-    if answers(robot, position_only):
-        q_exact = nearest_exact(robot, tmat, q, respect_limits, None if checker is None else checker.in_collision)
-        model = _model(robot)  # its single-configuration chain: the batched walk costs more for one
-        ee = model.frames(*model.th_d(q_exact), robot.base_tf.mat)[-1] @ model.tool if q_exact is not None else tmat
-        pos_err = float(np.linalg.norm(tmat[:3, 3] - ee[:3, 3]))
-        rot_err = 0.0 if position_only else float(np.linalg.norm(rotation_log(tmat[:3, :3] @ ee[:3, :3].T)))
-        if q_exact is not None and pos_err <= tol_pos and rot_err <= tol_rot:
-            return IKResult(q_exact, True, 0, 0, pos_err, rot_err, position_only,
-                            message + "analytic: the exact solution nearest to q0")
+    if nearest.answers(robot, position_only):
+        found = nearest.nearest_exact(robot, tmat, q, respect_limits, None if checker is None else checker.in_collision)
+        if found is not None:
+            q_exact, pos_err, rot_err = found
+            rot_err = 0.0 if position_only else rot_err
+            if pos_err <= tol_pos and rot_err <= tol_rot:
+                return IKResult(q_exact, True, 0, 0, pos_err, rot_err, position_only,
+                                message + "analytic: the exact solution nearest to q0")
     problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
     rng = np.random.default_rng(seed)
     distance = float(np.linalg.norm(tmat[:3, 3] - robot.base_tf.mat[:3, 3]))
