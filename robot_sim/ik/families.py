@@ -2,7 +2,9 @@
 (:mod:`robot_sim.ik.geometry`): ``E_0(q_0) ⋯ E_{m-1}(q_{m-1}) M = T``.
 
 Each solver writes every branch of one pose into ``out`` (K, m) and its posture bits into
-``code`` (K,), and returns how many it wrote.  ``A`` holds the constant points and
+``code`` (K,), and returns how many it wrote.  The pose solvers also write the cosine
+and sine of each angle they turn by into ``cs`` (K, 2m: cos q_j at 2j, sin q_j at
+2j + 1), for the check by forward kinematics to take instead of computing them again.  ``A`` holds the constant points and
 directions the classification prepared (rows listed per solver).  Angles that a singular
 pose leaves free take their value in ``q0``.
 
@@ -73,11 +75,12 @@ def wrist_bit(H: np.ndarray, c4: float, s4: float, c5: float, s5: float) -> int:
 
 
 @numba.njit(**JIT)
-def wrist(H: np.ndarray, arm: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tuple, q0: np.ndarray,
-          out: np.ndarray, code: np.ndarray, n: int) -> None:
+def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tuple,
+          q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray, n: int) -> None:
     """The two wrists (q_3, q_4, q_5) with R_3 R_4 R_5 = R_w, given R_w h_5 and R_w x6
-    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints ``arm`` and one wrist each, and of
-    code the arm's posture ``bits`` with the wrist's."""
+    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints ``arm`` and one wrist each, of
+    code the arm's posture ``bits`` with the wrist's, and of cs the arm's ``arm_cs``
+    (6 numbers) with the wrist's."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
     q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3])
     for k, (q4, q5) in enumerate(((-m4a, q5a), (-m4b, q5b))):
@@ -87,12 +90,15 @@ def wrist(H: np.ndarray, arm: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tupl
         out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
         out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
         code[n + k] = bits | wrist_bit(H, c4, s4, c5, s5)
+        c6, s6 = cos_sin(q6)
+        cs[n + k, 0], cs[n + k, 1], cs[n + k, 2], cs[n + k, 3], cs[n + k, 4], cs[n + k, 5] = arm_cs
+        cs[n + k, 6], cs[n + k, 7], cs[n + k, 8], cs[n + k, 9], cs[n + k, 10], cs[n + k, 11] = c4, s4, c5, s5, c6, s6
 
 
 @numba.njit(**JIT)
 def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A: np.ndarray, T: np.ndarray,
-                    q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
-    """A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
+                    q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray) -> int:
+    """rev: nonzero for the revolute joints.  A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
     of the arm axes, 6 the shoulder direction f0."""
     pw = apply(T, row(A, 1))
     r6, rx = rmul(T, row(A, 2)), rmul(T, row(A, 4))
@@ -104,18 +110,18 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
         c0, s0 = cos_sin(q[0])
         c1, s1 = cos_sin(q[1])
         bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
-        c0, s0 = cos_sin(q[0], rev[0])  # (R_0 R_1 R_2)ᵀ: the arm's turn undone
-        c1, s1 = cos_sin(q[1], rev[1])
-        c2, s2 = cos_sin(q[2], rev[2])
+        c0, s0 = cos_sin(q[0], rev[0] != 0)  # (R_0 R_1 R_2)ᵀ: the arm's turn undone
+        c1, s1 = cos_sin(q[1], rev[1] != 0)
+        c2, s2 = cos_sin(q[2], rev[2] != 0)
         w6 = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, r6)))
         wx = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, rx)))
-        wrist(H, q, bits, w6, wx, x6, q0, out, code, 2 * j)
+        wrist(H, q, (c0, s0, c1, s1, c2, s2), bits, w6, wx, x6, q0, out, code, cs, 2 * j)
     return 2 * arm
 
 
 @numba.njit(**JIT)
 def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T: np.ndarray,
-                   q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
+                   q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray) -> int:
     """A: 0 the meeting point o of axes 4 and 5, 1 M⁻¹o, 2 R_Mᵀh_5, 3 x1 ⟂ h_1, 4 f0."""
     h0, h1, h2, h3, h4, h5 = row(H, 0), row(H, 1), row(H, 2), row(H, 3), row(H, 4), row(H, 5)
     p0, p1, p2, p3, p4, p5 = row(P, 0), row(P, 1), row(P, 2), row(P, 3), row(P, 4), row(P, 5)
@@ -151,6 +157,8 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
                 c2, s2 = cos_sin(q2)
                 c4, s4 = cos_sin(q4)
                 code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c4, s4, c5, s5)
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
+                cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6
                 n += 1
     return n
 

@@ -37,18 +37,22 @@ RAW, EVERY_TURN, NEAREST_TURN = 0, 1, 2
 
 
 @numba.njit(**JIT)
-def fk_error(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, q: np.ndarray, T: np.ndarray,
-             check_rot: bool) -> tuple[float, float]:
+def fk_error(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, q: np.ndarray, cs: np.ndarray,
+             T: np.ndarray, check_rot: bool) -> tuple[float, float]:
     """Position error [m] and (with ``check_rot``, else 0) rotation chord of the tool at q
     against T, by the product of exponentials.  The chord ‖R_q − R_T‖_F / √2 is
     2 sin(θ/2) for the angle θ [rad] between the rotations (:func:`chord_angle`), θ to
-    within θ³/24.  (Scalars only: the chain's rotation and offset stay in registers.)"""
+    within θ³/24.  cs (2n,) holds cos q_j, sin q_j at 2j, 2j + 1 where the caller has
+    them (NaN where not).  (Scalars only: the chain's rotation and offset stay in
+    registers.)"""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
     t0 = t1 = t2 = 0.0
     for j in range(H.shape[0]):
         h0, h1, h2 = H[j, 0], H[j, 1], H[j, 2]
         if rev[j]:
-            c, s = math.cos(q[j]), math.sin(q[j])
+            c, s = cs[2 * j], cs[2 * j + 1]
+            if not c == c:
+                c, s = math.cos(q[j]), math.sin(q[j])
             v = 1.0 - c
             a00, a01, a02 = c + v * h0 * h0, v * h0 * h1 - s * h2, v * h0 * h2 + s * h1
             a10, a11, a12 = v * h0 * h1 + s * h2, c + v * h1 * h1, v * h1 * h2 - s * h0
@@ -106,10 +110,12 @@ def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
 
 
 @numba.njit(**JIT)
-def screen(raw: np.ndarray, code: np.ndarray, m: int, exact: np.ndarray, err: np.ndarray, H: np.ndarray,
+def screen(raw: np.ndarray, code: np.ndarray, cs: np.ndarray, m: int, exact: np.ndarray, err: np.ndarray,
+           H: np.ndarray,
            P: np.ndarray, rev: np.ndarray, M: np.ndarray, T: np.ndarray, q0: np.ndarray, lo: np.ndarray,
            hi: np.ndarray, mode: int, check_rot: bool, tol: float) -> tuple[int, int]:
-    """Pass 1 of one pose, in place: of its m raw branches raw[:m] (K, n) and code[:m],
+    """Pass 1 of one pose, in place: of its m raw branches raw[:m] (K, n) and code[:m]
+    (with the cosines and sines of their angles cs[:m] (K, 2n), NaN where not known),
     the distinct ones kept (exact ones if any) move to the front, with exact[k].
     Returns (how many are kept, how many solutions they expand to).  ``err`` (K,) is
     scratch."""
@@ -125,7 +131,7 @@ def screen(raw: np.ndarray, code: np.ndarray, m: int, exact: np.ndarray, err: np
                 q[j] = nearest_turn(q[j], q0[j])
         err[k] = math.inf
         if ok:
-            pos, chord = fk_error(H, P, rev, M, q, T, check_rot)
+            pos, chord = fk_error(H, P, rev, M, q, cs[k], T, check_rot)
             err[k] = max(pos, chord)
         any_exact = any_exact or err[k] <= tol
     kept = 0

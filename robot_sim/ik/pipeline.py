@@ -70,21 +70,22 @@ def first_bad_pose(Ts: np.ndarray, tol: float) -> int:
 
 @numba.njit(**JIT)
 def _chain(g: np.ndarray, at: int, m: int) -> tuple:
-    """Screws H (m, 3), P (m, 3) and M (4, 4) packed in g from ``at``."""
-    H = g[at:at + 3 * m].copy().reshape((m, 3))
-    P = g[at + 3 * m:at + 6 * m].copy().reshape((m, 3))
-    return H, P, g[at + 6 * m:at + 6 * m + 16].copy().reshape((4, 4))
+    """Screws H (m, 3), P (m, 3) and M (4, 4) packed in g from ``at`` (views of g)."""
+    H = g[at:at + 3 * m].reshape((m, 3))
+    P = g[at + 3 * m:at + 6 * m].reshape((m, 3))
+    return H, P, g[at + 6 * m:at + 6 * m + 16].reshape((4, 4))
 
 
 @numba.njit(**JIT)
 def _whole(gf: np.ndarray, gi: np.ndarray) -> tuple:
-    """The whole chain packed after the solved one: H, P, M, limits lo, hi, joint kinds."""
+    """The whole chain packed after the solved one: H, P, M, limits lo, hi, joint kinds
+    (nonzero: revolute); views of gf and gi."""
     m, n = gi[8], gi[9]
     at = _FHEAD + 6 * m + 37
-    H, P, M = _chain(gf[0], at, n)
+    row = gf[0]
+    H, P, M = _chain(row, at, n)
     at += 6 * n + 16
-    revf = gi[_HEAD + 2 * m:_HEAD + 2 * m + n] != 0
-    return H, P, M, gf[0, at:at + n].copy(), gf[0, at + n:at + 2 * n].copy(), revf
+    return H, P, M, row[at:at + n], row[at + n:at + 2 * n], gi[_HEAD + 2 * m:_HEAD + 2 * m + n]
 
 
 @numba.njit(**JIT)
@@ -105,49 +106,54 @@ def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode:
     then :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions."""
     kind, case, free, rev_chain, m, n = gi[0], gi[1], gi[6], gi[7] != 0, gi[8], gi[9]
     check_rot = gi[10] != 0
-    idx = gi[2:6].copy()
-    revs = gi[_HEAD:_HEAD + m] != 0
+    idx = gi[2:6]
+    revs = gi[_HEAD:_HEAD + m]  # nonzero: revolute
     keep = gi[_HEAD + m:_HEAD + 2 * m]
     K, V = BRANCH_COUNTS[kind], gf.shape[0]
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
+    sub_cs = np.empty((K, 2 * m))
     sub_code = np.zeros(K, dtype=np.int64)
+    cs = np.empty((K * V, 2 * n))
     err = np.empty(K * V)
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
     Tinv = np.empty((4, 4))
-    for v in range(V):
-        Hs, Ps, Ms = _chain(gf[v], _FHEAD, m)
-        A = gf[v, _FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].copy().reshape((7, 3))
-        for i in range(start, stop):
-            T = Ts[i]
-            if rev_chain:
-                _inverse(Ts[i], Tinv)
-                T = Tinv
+    for i in range(start, stop):
+        T = Ts[i]
+        if rev_chain:
+            _inverse(Ts[i], Tinv)
+            T = Tinv
+        got_all = 0
+        for v in range(V):
+            row = gf[v]
+            Hs, Ps, Ms = _chain(row, _FHEAD, m)
+            A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
             sub[:, :] = np.nan
+            sub_cs[:, :] = np.nan
             if kind == SPHERICAL_WRIST:
-                got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code)
+                got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == THREE_PARALLEL:
-                got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code)
+                got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == PARALLEL_AXES:
                 got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
             else:
                 got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
-            if v == 0:
-                count[i] = 0
             for k in range(got):
-                row = count[i]
+                at = got_all + k
+                cs[at, :] = np.nan
                 for j in range(m):
-                    raw[i, row, keep[j]] = sub[k, j]
+                    raw[i, at, keep[j]] = sub[k, j]
+                    cs[at, 2 * keep[j]] = sub_cs[k, 2 * j]
+                    cs[at, 2 * keep[j] + 1] = sub_cs[k, 2 * j + 1]
                 if free >= 0:
-                    raw[i, row, free] = gf[v, 0]
-                code[i, row] = sub_code[k]
-                count[i] = row + 1
-    for i in range(start, stop):
-        count[i], total[i] = screen(raw[i], code[i], count[i], exact[i], err, Hf, Pf, revf, Mf, Ts[i], q0, lo, hi,
-                                    mode, check_rot, tol)
+                    raw[i, at, free] = row[0]
+                code[i, at] = sub_code[k]
+            got_all += got
+        count[i], total[i] = screen(raw[i], code[i], cs, got_all, exact[i], err, Hf, Pf, revf, Mf, Ts[i], q0, lo,
+                                    hi, mode, check_rot, tol)
 
 
 @numba.njit(**JIT)
@@ -227,5 +233,5 @@ def reach_error(gf: np.ndarray, gi: np.ndarray, q: np.ndarray, T: np.ndarray) ->
     """Position error [m] and rotation angle [rad] of the tool at q (n,) against T (4, 4),
     on the whole chain packed in gf, gi."""
     H, P, M, _, _, rev = _whole(gf, gi)
-    pos, chord = fk_error(H, P, rev, M, q, T, True)
+    pos, chord = fk_error(H, P, rev, M, q, np.full(2 * q.shape[0], np.nan), T, True)
     return pos, chord_angle(chord)
