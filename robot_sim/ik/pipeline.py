@@ -235,3 +235,15 @@ def reach_error(gf: np.ndarray, gi: np.ndarray, q: np.ndarray, T: np.ndarray) ->
     H, P, M, _, _, rev = _whole(gf, gi)
     pos, chord = fk_error(H, P, rev, M, q, np.full(2 * q.shape[0], np.nan), T, True)
     return pos, chord_angle(chord)
+
+
+@numba.njit(**JIT)
+def nearest_solution(gf: np.ndarray, gi: np.ndarray, T: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
+    """The first exact solution :func:`run_one` lists for T (4, 4), with its position [m]
+    and rotation [rad] errors (:func:`reach_error`): (q (n,), pos, rot, found, bad)."""
+    q, _, exact, _, bad = run_one(gf, gi, T, q0, mode)
+    for k in range(q.shape[0]):
+        if exact[k]:
+            pos, rot = reach_error(gf, gi, q[k], T)
+            return q[k].copy(), pos, rot, True, bad
+    return np.zeros(q.shape[1]), 0.0, 0.0, False, bad
