@@ -5,6 +5,8 @@ tool pose 4×4, joint values in rad (revolute) or m (prismatic).
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -25,41 +27,34 @@ EXACT_TOL = 1e-9
 MAX_POSES = 2_000_000
 MAX_FREE_VALUES = 10_000
 
-_set = object.__setattr__
+class _Fields(NamedTuple):
+    q: FloatArray
+    exact: NDArray[np.bool_]
+    count: int | NDArray[np.int64]
+    codes: NDArray[np.int64]
+    family: IKFamily
+    names: NDArray[np.str_]  # branch number -> name, '' at index -1
 
 
-class IKSolutions:
-    """Solutions of :func:`ik_solutions` (read only).
+class IKSolutions(_Fields):
+    """Solutions of :func:`ik_solutions` (a named tuple of the fields below: read only,
+    and cheap to build).
 
     One pose: ``q`` (k, n) nearest to q0 first, ``branch`` the k posture names (see
     :attr:`IKFamily.postures`; "branch b" where the family names none), ``exact`` (k,)
     False for least-squares configurations of a pose out of reach, ``count`` = k.
     A batch of N poses: ``q`` (N, K, n) padded with NaN, ``branch`` (N, K) names ('' as
     padding), ``exact`` (N, K), ``count`` (N,).  ``codes`` holds the branch numbers the
-    names come from (-1 as padding); the names are looked up when first asked for.
+    names come from (-1 as padding); ``len()`` is the number of solutions (of poses for
+    a batch).
     """
 
-    __slots__ = ("q", "exact", "count", "codes", "family", "_names", "_branch")
-
-    def __init__(self, q: FloatArray, exact: NDArray[np.bool_], count: int | NDArray[np.int64],
-                 codes: NDArray[np.int64], family: IKFamily, names: NDArray[np.str_]) -> None:
-        _set(self, "q", q)
-        _set(self, "exact", exact)
-        _set(self, "count", count)
-        _set(self, "codes", codes)
-        _set(self, "family", family)
-        _set(self, "_names", names)
-        _set(self, "_branch", None)
-
-    def __setattr__(self, name: str, value: object) -> None:
-        raise AttributeError(f"IKSolutions is read only (cannot set {name})")
+    __slots__ = ()
 
     @property
     def branch(self) -> tuple[str, ...] | NDArray[np.str_]:
-        if self._branch is None:
-            names = self._names[self.codes]
-            _set(self, "_branch", tuple(names.tolist()) if self.codes.ndim == 1 else names)
-        return self._branch
+        names = self.names[self.codes]
+        return tuple(names.tolist()) if self.codes.ndim == 1 else names
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
@@ -70,30 +65,34 @@ class IKSolutions:
     def take(self, rows: ArrayLike) -> "IKSolutions":
         """The solutions ``rows`` (indices) of one pose's solutions, in that order."""
         rows = np.asarray(rows, dtype=np.int64)
-        return IKSolutions(self.q[rows], self.exact[rows], len(rows), self.codes[rows], self.family, self._names)
+        return IKSolutions(self.q[rows], self.exact[rows], len(rows), self.codes[rows], self.family, self.names)
 
 
 _SHAPE_ERROR = "T must be a 4x4 transform or an (N, 4, 4) array of them"
 
 
+_F64 = np.dtype(np.float64)
+
+
 def _poses(T: ArrayLike) -> tuple[FloatArray, bool]:
     """T as a contiguous writable (4, 4) or (N, 4, 4) float array, and whether it is one
     pose (its rigidity is checked by the compiled :func:`robot_sim.ik.pipeline.run`)."""
-    if type(T) is np.ndarray and T.dtype == np.float64:
+    if type(T) is np.ndarray and T.dtype is _F64:
         arr = T
     else:
         try:
             arr = np.asarray(T.mat if hasattr(T, "mat") else T, dtype=float)
         except (ValueError, TypeError):
             raise ValueError(f"{_SHAPE_ERROR}, got {clip_repr(T)}") from None
-    if arr.shape[-2:] != (4, 4) or arr.ndim not in (2, 3):
-        raise ValueError(f"{_SHAPE_ERROR}, got shape {arr.shape}")
-    if arr.ndim == 3 and arr.shape[0] > MAX_POSES:
-        raise ValueError(f"T holds {arr.shape[0]} poses; at most {MAX_POSES} per call")
+    shape = arr.shape
+    if shape != (4, 4) and (len(shape) != 3 or shape[1:] != (4, 4)):
+        raise ValueError(f"{_SHAPE_ERROR}, got shape {shape}")
+    if len(shape) == 3 and shape[0] > MAX_POSES:
+        raise ValueError(f"T holds {shape[0]} poses; at most {MAX_POSES} per call")
     flags = arr.flags
     if not (flags.c_contiguous and flags.writeable):  # numba compiles read-only arrays as another signature
         arr = np.array(arr, order="C")
-    return arr, arr.ndim == 2
+    return arr, len(shape) == 2
 
 
 def _bad_pose(arr: FloatArray, bad: int) -> ValueError:
@@ -198,8 +197,9 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     Ts, single = _poses(T)
     sv = solver(robot)
     start = _start(robot, sv, q0)
-    if free_joint is None and free_values is None and sv.plan is not None and sv.plan.free is None:
-        gf, gi = sv.prepared.get("rows") or packed(sv, sv.plan, np.zeros(1), robot)
+    rows = sv.prepared.get("rows") if free_joint is None and free_values is None else None
+    if rows is not None:  # the solver's own plan, packed before
+        gf, gi = rows
     else:
         p, values = _free_values(robot, sv, start, free_joint, free_values)
         if p is None:
