@@ -56,6 +56,10 @@ def apply(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
     return add(rmul(T, x), (T[0, 3], T[1, 3], T[2, 3]))
 
 
+#: Axes closer than this (sine of their angle, or cosine for ⟂) count as aligned (or ⟂).
+ALIGNED = 1e-12
+
+
 @numba.njit(inline="always", **JIT)
 def cos_sin(q: float, revolute: bool = True) -> tuple[float, float]:
     """(cos q, sin q) of a revolute joint's angle; (1, 0) for a prismatic joint (it does
@@ -83,14 +87,21 @@ def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: 
     (6 numbers) with the wrist's."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
     q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3])
+    # h_5 = ±h_3 and h_4 ⟂ h_3 (a ZYZ wrist): R_3(q4 + π) R_4(−q5) R_5(q6 + π) = R_3(q4) R_4(q5) R_5(q6),
+    # since R_3(π) turns h_4 into −h_4 and R_3(π) R_5(π) = I; the second wrist follows from the first
+    zyz = norm(cross(h3, h5)) < ALIGNED and abs(dot(h3, h4)) < ALIGNED
     for k, (q4, q5) in enumerate(((-m4a, q5a), (-m4b, q5b))):
-        c4, s4 = cos_sin(q4)
-        c5, s5 = cos_sin(q5)
-        q6 = sp1(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
+        if k == 1 and zyz:
+            q4, q5, q6 = out[n, 3] + math.pi, -out[n, 4], out[n, 5] + math.pi
+            c4, s4, c5, s5, c6, s6 = -cs[n, 6], -cs[n, 7], cs[n, 8], -cs[n, 9], -cs[n, 10], -cs[n, 11]
+        else:
+            c4, s4 = cos_sin(q4)
+            c5, s5 = cos_sin(q5)
+            q6 = sp1(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
+            c6, s6 = cos_sin(q6)
         out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
         out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
         code[n + k] = bits | wrist_bit(H, c4, s4, c5, s5)
-        c6, s6 = cos_sin(q6)
         cs[n + k, 0], cs[n + k, 1], cs[n + k, 2], cs[n + k, 3], cs[n + k, 4], cs[n + k, 5] = arm_cs
         cs[n + k, 6], cs[n + k, 7], cs[n + k, 8], cs[n + k, 9], cs[n + k, 10], cs[n + k, 11] = c4, s4, c5, s5, c6, s6
 
