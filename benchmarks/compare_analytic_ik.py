@@ -17,6 +17,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -54,13 +55,37 @@ def same_set(a: np.ndarray, b: np.ndarray) -> bool:
     return bool(close.any(axis=1).all() and close.any(axis=0).all())
 
 
+def oracles(name: str) -> tuple[RobotParams, Callable[[np.ndarray], object], Callable[[np.ndarray], list]]:
+    """The bare arm ``name`` (see the module docstring) and EAIK's and ik-geo's IK of a
+    4×4 pose on it; ImportError when they are not installed."""
+    import ik_geo
+    from eaik.IK_DH import DhRobot
+
+    family = ARMS[name]
+    robot = bare(name)
+    eaik = DhRobot(robot.dh_alpha, robot.dh_a, robot.dh_d)
+    S = screws(robot)
+    points = S.P.copy()  # IK-Geo wants meeting axes to share their point (zero offsets between them)
+    if family.startswith("spherical"):
+        points[3:] = meeting_point(S, 3, 4, 1e-9)
+    if family.endswith("two_intersecting") and not family.startswith("three"):
+        points[:2] = meeting_point(S, 0, 1, 1e-9)
+    P = np.vstack([points[0], np.diff(points, axis=0), S.M[:3, 3] - points[-1]])
+    geo = getattr(ik_geo.Robot, family)(S.H.tolist(), P.tolist())
+    RM = S.M[:3, :3]
+
+    def geo_ik(t: np.ndarray) -> list:
+        return geo.get_ik((t[:3, :3] @ RM.T).T.tolist(), t[:3, 3].tolist())  # ik-geo reads R by columns
+
+    return robot, eaik.IK, geo_ik
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--poses", type=int, default=1000)
     args = parser.parse_args()
     try:
-        import ik_geo
-        from eaik.IK_DH import DhRobot
+        built = {name: oracles(name) for name in ARMS}
     except ImportError as exc:
         print(f"compare_analytic_ik: needs eaik and ik-geo ({exc}); pip install eaik==1.2.2 ik-geo==1.0.3",
               file=sys.stderr)
@@ -69,18 +94,8 @@ def main() -> None:
     print("| arm | ours µs/pose | EAIK µs/pose | ik-geo µs/pose | solutions per pose: ours / EAIK / ik-geo "
           "| max residual: ours / EAIK / ik-geo | same set as EAIK |")
     print("|---|---|---|---|---|---|---|")
-    for name, family in ARMS.items():
-        robot = bare(name)
-        eaik = DhRobot(robot.dh_alpha, robot.dh_a, robot.dh_d)
-        S = screws(robot)
-        points = S.P.copy()  # IK-Geo wants meeting axes to share their point (zero offsets between them)
-        if family.startswith("spherical"):
-            points[3:] = meeting_point(S, 3, 4, 1e-9)
-        if family.endswith("two_intersecting") and not family.startswith("three"):
-            points[:2] = meeting_point(S, 0, 1, 1e-9)
-        P = np.vstack([points[0], np.diff(points, axis=0), S.M[:3, 3] - points[-1]])
-        geo = getattr(ik_geo.Robot, family)(S.H.tolist(), P.tolist())
-        RM = S.M[:3, :3]
+    for name in ARMS:
+        robot, eaik_ik, geo_ik = built[name]
         Q = rng.uniform(-np.pi, np.pi, (args.poses, 6))
         T = forward_kinematics(robot, Q)
         times = {"ours": [], "eaik": [], "geo": []}
@@ -92,10 +107,10 @@ def main() -> None:
             ours = ik_solutions(robot, t, within_limits=False)
             times["ours"].append(time.perf_counter() - start)
             start = time.perf_counter()
-            theirs = eaik.IK(t)
+            theirs = eaik_ik(t)
             times["eaik"].append(time.perf_counter() - start)
             start = time.perf_counter()
-            g = geo.get_ik((t[:3, :3] @ RM.T).T.tolist(), t[:3, 3].tolist())  # ik-geo reads R by columns
+            g = geo_ik(t)
             times["geo"].append(time.perf_counter() - start)
             q_e = np.asarray(theirs.Q)[~np.asarray(theirs.is_LS, dtype=bool)] if len(theirs.Q) else np.zeros((0, 6))
             q_g = np.array([q for q, ls in g if not ls]) if g else np.zeros((0, 6))

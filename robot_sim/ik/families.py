@@ -2,7 +2,9 @@
 (:mod:`robot_sim.ik.geometry`): ``E_0(q_0) ⋯ E_{m-1}(q_{m-1}) M = T``.
 
 Each solver writes every branch of one pose into ``out`` (K, m) and its posture bits into
-``code`` (K,), and returns how many it wrote.  ``A`` holds the constant points and
+``code`` (K,), and returns how many it wrote.  The pose solvers also write the cosine
+and sine of each angle they turn by into ``cs`` (K, 2m: cos q_j at 2j, sin q_j at
+2j + 1), for the check by forward kinematics to take instead of computing them again.  ``A`` holds the constant points and
 directions the classification prepared (rows listed per solver).  Angles that a singular
 pose leaves free take their value in ``q0``.
 
@@ -21,11 +23,13 @@ pose leaves free take their value in ``q0``.
 """
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
-from robot_sim.ik.position import (ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn)
-from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, sp1, sp2, sp3, sp4, sub
+from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn, turn_cs
+from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp2, sp3, sp4, sub
 from robot_sim.kernels.jit import JIT
 
 SPHERICAL_WRIST, THREE_PARALLEL, PARALLEL_AXES, POSITION_ONLY = range(4)
@@ -52,87 +56,120 @@ def apply(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
     return add(rmul(T, x), (T[0, 3], T[1, 3], T[2, 3]))
 
 
+#: Axes closer than this (sine of their angle, or cosine for ⟂) count as aligned (or ⟂).
+ALIGNED = 1e-12
+
+
 @numba.njit(inline="always", **JIT)
-def unturn(H: np.ndarray, rev: np.ndarray, q: np.ndarray, first: int, last: int, v: tuple) -> tuple:
-    """(R_first ⋯ R_last)ᵀ v: the rotation of joints first..last undone (prismatic ones
-    do not turn)."""
-    for j in range(first, last + 1):
-        if rev[j]:
-            v = rot(row(H, j), -q[j], v)
-    return v
+def cos_sin(q: float, revolute: bool = True) -> tuple[float, float]:
+    """(cos q, sin q) of a revolute joint's angle; (1, 0) for a prismatic joint (it does
+    not turn)."""
+    return (math.cos(q), math.sin(q)) if revolute else (1.0, 0.0)
 
 
 @numba.njit(**JIT)
-def wrist(H: np.ndarray, q: np.ndarray, rw6: tuple, rwx: tuple, x6: tuple, q0: np.ndarray,
-          out: np.ndarray, n: int) -> None:
+def wrist_bit(H: np.ndarray, c4: float, s4: float, c5: float, s5: float) -> int:
+    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0 (R_3, R_4 given by the cosines and
+    sines of q_3, q_4): the wrist's two postures differ in that sign, and Siciliano's
+    first wrist solution (sin θ5 > 0 on his anthropomorphic arm with spherical wrist) is
+    the one not flipped."""
+    h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
+    return WRIST_FLIPPED if dot(cross(h3, rot_cs(h3, c4, s4, h4)), rot_cs(h3, c4, s4, rot_cs(h4, c5, s5, h5))) > 0.0 \
+        else 0
+
+
+@numba.njit(**JIT)
+def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tuple,
+          q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray, n: int) -> None:
     """The two wrists (q_3, q_4, q_5) with R_3 R_4 R_5 = R_w, given R_w h_5 and R_w x6
-    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints q[0:3] and one wrist each."""
+    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints ``arm`` and one wrist each, of
+    code the arm's posture ``bits`` with the wrist's, and of cs the arm's ``arm_cs``
+    (6 numbers) with the wrist's."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
     q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3])
+    # h_5 = ±h_3 and h_4 ⟂ h_3 (a ZYZ wrist): R_3(q4 + π) R_4(−q5) R_5(q6 + π) = R_3(q4) R_4(q5) R_5(q6),
+    # since R_3(π) turns h_4 into −h_4 and R_3(π) R_5(π) = I; the second wrist follows from the first
+    zyz = norm(cross(h3, h5)) < ALIGNED and abs(dot(h3, h4)) < ALIGNED
     for k, (q4, q5) in enumerate(((-m4a, q5a), (-m4b, q5b))):
-        q6 = sp1(h5, x6, rot(h4, -q5, rot(h3, -q4, rwx)), q0[5])
-        out[n + k, 0:3] = q[0:3]
+        if k == 1 and zyz:
+            q4, q5, q6 = out[n, 3] + math.pi, -out[n, 4], out[n, 5] + math.pi
+            c4, s4, c5, s5, c6, s6 = -cs[n, 6], -cs[n, 7], cs[n, 8], -cs[n, 9], -cs[n, 10], -cs[n, 11]
+        else:
+            c4, s4 = cos_sin(q4)
+            c5, s5 = cos_sin(q5)
+            q6 = sp1(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
+            c6, s6 = cos_sin(q6)
+        out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
         out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
-
-
-@numba.njit(**JIT)
-def wrist_bit(H: np.ndarray, q4: float, q5: float) -> int:
-    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0: the wrist's two postures differ in
-    that sign, and Siciliano's first wrist solution (sin θ5 > 0 on his anthropomorphic arm
-    with spherical wrist) is the one not flipped."""
-    h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
-    return WRIST_FLIPPED if dot(cross(h3, rot(h3, q4, h4)), rot(h3, q4, rot(h4, q5, h5))) > 0.0 else 0
+        code[n + k] = bits | wrist_bit(H, c4, s4, c5, s5)
+        cs[n + k, 0], cs[n + k, 1], cs[n + k, 2], cs[n + k, 3], cs[n + k, 4], cs[n + k, 5] = arm_cs
+        cs[n + k, 6], cs[n + k, 7], cs[n + k, 8], cs[n + k, 9], cs[n + k, 10], cs[n + k, 11] = c4, s4, c5, s5, c6, s6
 
 
 @numba.njit(**JIT)
 def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A: np.ndarray, T: np.ndarray,
-                    q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
-    """A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
+                    q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray) -> int:
+    """rev: nonzero for the revolute joints.  A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
     of the arm axes, 6 the shoulder direction f0."""
     pw = apply(T, row(A, 1))
     r6, rx = rmul(T, row(A, 2)), rmul(T, row(A, 4))
     f0, x6 = row(A, 6), row(A, 3)
+    h0, h1, h2 = row(H, 0), row(H, 1), row(H, 2)
     arm = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
-    for j in range(arm - 1, -1, -1):
-        bits = posture_bits(H, P, f0, out[j], pw)
-        wrist(H, out[j], unturn(H, rev, out[j], 0, 2, r6), unturn(H, rev, out[j], 0, 2, rx), x6, q0, out, 2 * j)
-        for k in (2 * j, 2 * j + 1):
-            code[k] = bits | wrist_bit(H, out[k, 3], out[k, 4])
+    for j in range(arm - 1, -1, -1):  # from the last: arm solution j becomes rows 2j, 2j + 1
+        q = (out[j, 0], out[j, 1], out[j, 2])
+        c0, s0 = cos_sin(q[0])
+        c1, s1 = cos_sin(q[1])
+        bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
+        c0, s0 = cos_sin(q[0], rev[0] != 0)  # (R_0 R_1 R_2)ᵀ: the arm's turn undone
+        c1, s1 = cos_sin(q[1], rev[1] != 0)
+        c2, s2 = cos_sin(q[2], rev[2] != 0)
+        w6 = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, r6)))
+        wx = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, rx)))
+        wrist(H, q, (c0, s0, c1, s1, c2, s2), bits, w6, wx, x6, q0, out, code, cs, 2 * j)
     return 2 * arm
 
 
 @numba.njit(**JIT)
 def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T: np.ndarray,
-                   q0: np.ndarray, out: np.ndarray, code: np.ndarray) -> int:
+                   q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray) -> int:
     """A: 0 the meeting point o of axes 4 and 5, 1 M⁻¹o, 2 R_Mᵀh_5, 3 x1 ⟂ h_1, 4 f0."""
     h0, h1, h2, h3, h4, h5 = row(H, 0), row(H, 1), row(H, 2), row(H, 3), row(H, 4), row(H, 5)
     p0, p1, p2, p3, p4, p5 = row(P, 0), row(P, 1), row(P, 2), row(P, 3), row(P, 4), row(P, 5)
-    s2, s3 = (1.0 if dot(h1, h2) > 0.0 else -1.0), (1.0 if dot(h1, h3) > 0.0 else -1.0)
+    g2, g3 = (1.0 if dot(h1, h2) > 0.0 else -1.0), (1.0 if dot(h1, h3) > 0.0 else -1.0)
     po = apply(T, row(A, 1))
     r6 = rmul(T, row(A, 2))
     x1, f0 = row(A, 3), row(A, 4)
+    a3, b3 = perp(h1, sub(p3, p2)), perp(h1, sub(p2, p1))
     n = 0
     t1a, t1b, _, _ = sp4(h1, h0, sub(po, p0), dot(h1, sub(row(A, 0), p0)))
     for t1 in (t1a, t1b):
         q1 = -t1
-        t5a, t5b, _, _ = sp4(h1, h4, h5, dot(h1, rot(h0, -q1, r6)))
+        c1, s1 = cos_sin(q1)
+        t5a, t5b, _, _ = sp4(h1, h4, h5, dot(h1, rot_cs(h0, c1, -s1, r6)))
+        back = rmul(M, rtmul(T, rot_cs(h0, c1, s1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
         for q5 in (t5a, t5b):
-            back = rmul(M, rtmul(T, rot(h0, q1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
-            q6 = -sp1(h5, rot(h4, -q5, h1), back, -q0[5])
-            v = rot(h0, -q1, rmul(T, rtmul(M, rot(h5, -q6, rot(h4, -q5, x1)))))
-            total = sp1(h1, x1, v, q0[1] + s2 * q0[2] + s3 * q0[3])
+            c5, s5 = cos_sin(q5)
+            q6 = -sp1(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
+            c6, s6 = cos_sin(q6)
+            v = rot_cs(h0, c1, -s1, rmul(T, rtmul(M, rot_cs(h5, c6, -s6, rot_cs(h4, c5, -s5, x1)))))
+            total = sp1(h1, x1, v, q0[1] + g2 * q0[2] + g3 * q0[3])
             # y = E_0⁻¹ T M⁻¹ E_5⁻¹ E_4⁻¹ p3, the point on axis 3 that joints 1 and 2 must reach
-            z = turn(h5, p5, -q6, turn(h4, p4, -q5, p3))
+            z = turn_cs(h5, p5, c6, -s6, turn_cs(h4, p4, c5, -s5, p3))
             z = rtmul(M, sub(z, (M[0, 3], M[1, 3], M[2, 3])))
-            y = turn(h0, p0, -q1, apply(T, z))
-            dist = norm(perp(h1, sub(y, p1)))
-            t3a, t3b, _, _ = sp3(h2, perp(h1, sub(p3, p2)), perp(h1, sub(p2, p1)), dist)
+            y = turn_cs(h0, p0, c1, -s1, apply(T, z))
+            pw = turn_cs(h0, p0, c1, s1, y)
+            t3a, t3b, _, _ = sp3(h2, a3, b3, norm(perp(h1, sub(y, p1))))
             for q3 in (t3a, t3b):
-                q2 = sp1(h1, sub(turn(h2, p2, q3, p3), p1), sub(y, p1), q0[1])
-                q4 = s3 * (total - q2 - s2 * q3)
+                c3, s3 = cos_sin(q3)
+                q2 = sp1(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
+                q4 = g3 * (total - q2 - g2 * q3)
                 out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
-                bits = posture_bits(H, P, f0, out[n], add(rot(h0, q1, sub(y, p0)), p0))
-                code[n] = bits | wrist_bit(H, q4, q5)
+                c2, s2 = cos_sin(q2)
+                c4, s4 = cos_sin(q4)
+                code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c4, s4, c5, s5)
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
+                cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6
                 n += 1
     return n
 
@@ -182,6 +219,8 @@ def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.
     pw = (T[0, 3], T[1, 3], T[2, 3])
     n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
     for k in range(n):
-        code[k] = posture_bits(H, P, row(A, 6), out[k], pw)
+        c0, s0 = cos_sin(out[k, 0])
+        c1, s1 = cos_sin(out[k, 1])
+        code[k] = posture_bits(H, P, row(A, 6), c0, s0, c1, s1, pw)
     return n
 

@@ -64,14 +64,16 @@ class IKFamily:
 @dataclass(frozen=True)
 class Solver:
     """What :func:`robot_sim.ik.solutions.ik_solutions` needs of a robot: its screws, the
-    plan (None for a general arm) and its family."""
+    plan (None for a general arm), its family, and its home configuration as a writable
+    array (the compiled kernels take writable arrays; the robot's are read only)."""
 
     screws: Screws
     plan: Plan | None
     family: IKFamily
     size: float
     names: NDArray[np.str_]  # branch number -> name, and '' (index -1) for padding
-    prepared: dict = field(default_factory=dict)  # plan -> chain, constant rows, joint order
+    home: NDArray[np.float64]
+    prepared: dict = field(default_factory=dict)  # "rows": the packed chain, constant rows, joint order
 
 
 _SOLVERS: "weakref.WeakKeyDictionary[RobotParams, Solver]" = weakref.WeakKeyDictionary()
@@ -114,7 +116,8 @@ def solver(robot: RobotParams) -> Solver:
         family = IKFamily(KIND_NAMES[p.kind], robot.n_dofs, True, ARM_CASES[p.case] if p.kind in
                           (SPHERICAL_WRIST, POSITION_ONLY) else "", p.reversed, p.free, task,
                           BRANCHES[p.kind], _postures(p))
-    found = Solver(S, p, family, size, np.array((family.postures or tuple(f"branch {b}" for b in range(8))) + ("",)))
+    found = Solver(S, p, family, size, np.array((family.postures or tuple(f"branch {b}" for b in range(8))) + ("",)),
+                   np.array(robot.q_home, dtype=float))
     _SOLVERS[robot] = found
     return found
 

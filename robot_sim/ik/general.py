@@ -15,8 +15,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.ik.family import Solver
+from robot_sim.ik.finish import EVERY_TURN, RAW
 from robot_sim.ik.geometry import Screws, motion
 from robot_sim.ik.general_kernel import SAMPLES, eliminate, sigma, solve_general
+from robot_sim.ik.polish import pose_error
+from robot_sim.kernels.chain import frames, tool_pose
 from robot_sim.kernels.model import compiled_model
 from robot_sim.model.params import RobotParams
 from robot_sim.transforms import rot_from_rpy
@@ -158,4 +161,15 @@ def general_solutions(data: GeneralData, robot: RobotParams, Ts: FloatArray, q0:
         Te[:, :3, :3] = np.swapaxes(Ts[:, :3, :3], 1, 2)
         Te[:, :3, 3] = -np.einsum("nij,nj->ni", Te[:, :3, :3], Ts[:, :3, 3])
         Te[:, 3, 3] = 1.0
-    return solve_general(Ts, Te, *data.args, q0, lo, hi, within, tol, max_values)
+    return solve_general(Ts, Te, *data.args, q0, lo, hi, EVERY_TURN if within else RAW, tol, max_values)
+
+
+def reach(robot: RobotParams, q: FloatArray, T: FloatArray) -> tuple[float, float]:
+    """How far the tool at q (n,) is from the world pose T (4, 4): position [m] and
+    rotation angle [rad]."""
+    model = compiled_model(robot)
+    F, X, e = np.empty((robot.n_dofs + 1, 3, 4)), np.empty((4, 4)), np.empty(6)
+    frames(model.table, model.modified, model.base, np.array(q, dtype=float), F)
+    tool_pose(F, model.tool, X)
+    pose_error(X, np.array(T, dtype=float), 1.0, e)
+    return float(np.linalg.norm(e[:3])), float(np.linalg.norm(e[3:]))

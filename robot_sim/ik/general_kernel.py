@@ -287,17 +287,22 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
                   E1: np.ndarray, E2: np.ndarray, O: np.ndarray, Vi: np.ndarray, W: np.ndarray, H: np.ndarray,
                   RM: np.ndarray, u6: np.ndarray, reverse: bool, table: np.ndarray, modified: bool, base: np.ndarray,
                   tool: np.ndarray, Hs: np.ndarray, Ps: np.ndarray, rev: np.ndarray, Ms: np.ndarray, q0: np.ndarray,
-                  lo: np.ndarray, hi: np.ndarray, within: bool, tol: float, max_values: int) -> tuple:
+                  lo: np.ndarray, hi: np.ndarray, mode: int, tol: float, max_values: int) -> tuple:
     """Every solution of each pose Ts[i] (N, 4, 4) (Te: the poses the elimination solves,
-    see :func:`candidates`), as :func:`robot_sim.ik.pipeline.run` returns them: (q (N, K, 6)
-    NaN-padded nearest q0 first, code, exact, count, needed), checked and expanded by
-    :func:`robot_sim.ik.finish.screen` and :func:`robot_sim.ik.finish.expand` on the
-    chain's screws (Hs, Ps, rev, Ms).  A branch's code is its number in the order of its
-    q3 in (−π, π]."""
+    see :func:`candidates`), with the turns ``mode`` asks (RAW or EVERY_TURN of
+    :mod:`robot_sim.ik.finish`), as :func:`robot_sim.ik.pipeline.run` returns them: (q
+    (N, K, 6) NaN-padded nearest q0 first, code, exact, count, needed), checked and
+    expanded by :func:`robot_sim.ik.finish.screen` and :func:`robot_sim.ik.finish.expand`
+    on the chain's screws (Hs, Ps, rev, Ms).  A branch's code is its number in the order
+    of its q3 in (−π, π]."""
     N = Ts.shape[0]
     raw = np.full((N, MAX_CANDIDATES, 6), np.nan)
     code = np.zeros((N, MAX_CANDIDATES), dtype=np.int64)
     count = np.zeros(N, dtype=np.int64)
+    exact = np.zeros((N, MAX_CANDIDATES), dtype=np.bool_)
+    total = np.zeros(N, dtype=np.int64)
+    cs = np.empty((MAX_CANDIDATES, 12))  # no cosines known: screen computes them
+    err = np.empty(MAX_CANDIDATES)
     for i in range(N):
         got = candidates(Ts[i], Te[i], inv_size, C, axis6, E1, E2, O, Vi, W, H, RM, u6, reverse, table, modified,
                          base, tool, raw[i])
@@ -306,15 +311,14 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
                 raw[i, k, j] = nearest_turn(raw[i, k, j], 0.0)
         order = np.argsort(raw[i, :got, 2])
         raw[i, :got] = raw[i, order]
-        count[i] = got
-    exact = np.zeros((N, MAX_CANDIDATES), dtype=np.bool_)
-    total = np.zeros(N, dtype=np.int64)
-    screen(raw, code, count, exact, total, Hs, Ps, rev, Ms, Ts, q0, lo, hi, within, True, tol)
+        cs[:, :] = np.nan
+        count[i], total[i] = screen(raw[i], code[i], cs, got, exact[i], err, Hs, Ps, rev, Ms, Ts[i], q0, lo, hi,
+                                    mode, True, tol)
+        for k in range(count[i]):
+            code[i, k] = k
     width = 0
     for i in range(N):
         width = max(width, total[i])
-        for k in range(count[i]):
-            code[i, k] = k
     needed = N * width * 6
     if needed > max_values:
         return (np.empty((0, 0, 6)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
@@ -323,5 +327,11 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
     out_code = np.full((N, width), -1, dtype=np.int64)
     out_exact = np.zeros((N, width), dtype=np.bool_)
     out_count = np.zeros(N, dtype=np.int64)
-    expand(raw, code, count, exact, q0, lo, hi, rev, within, out, out_code, out_exact, out_count)
+    work, dist = np.empty((width, 6)), np.empty(width)
+    source, order, spare = (np.empty(width, dtype=np.int64), np.empty(width, dtype=np.int64),
+                            np.empty(width, dtype=np.int64))
+    digit, ways, first = np.empty(6, dtype=np.int64), np.empty(6, dtype=np.int64), np.empty(6)
+    for i in range(N):
+        out_count[i] = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, rev, mode, out[i], out_code[i],
+                              out_exact[i], work, dist, source, order, spare, digit, ways, first)
     return out, out_code, out_exact, out_count, needed

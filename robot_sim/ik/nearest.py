@@ -15,9 +15,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.family import GENERAL_6R, solver
-from robot_sim.ik.finish import TWO_PI
-from robot_sim.ik.general import general_data
-from robot_sim.ik.solutions import ik_solutions
+from robot_sim.ik.finish import EVERY_TURN, NEAREST_TURN, RAW, TWO_PI
+from robot_sim.ik.general import general_data, reach
+from robot_sim.ik.pipeline import MAX_VALUES, nearest_solution, reach_error, run_one
+from robot_sim.ik.solutions import ik_solutions, packed
 from robot_sim.kernels.jit import JIT
 from robot_sim.model.params import RobotParams
 
@@ -43,13 +44,36 @@ def all_exact(robot: RobotParams, T: ArrayLike, q0: FloatArray, within_limits: b
     return sols.q[sols.exact]
 
 
-def nearest_exact(robot: RobotParams, T: ArrayLike, q0: FloatArray, within_limits: bool,
-                  rejects: Callable[[FloatArray], Any] | None = None) -> FloatArray | None:
+def nearest_exact(robot: RobotParams, T: FloatArray, q0: FloatArray, within_limits: bool,
+                  rejects: Callable[[FloatArray], Any] | None = None) -> tuple[FloatArray, float, float] | None:
     """The exact solution nearest to q0 that ``rejects`` (say, a collision check) does not
-    reject, or None."""
-    for q in all_exact(robot, T, q0, within_limits):
-        if rejects is None or not rejects(q):
-            return q
+    reject, with its position [m] and rotation [rad] errors; None when there is none, or
+    when T (4, 4) fails the solver's own rigidity check.  For callers that have checked
+    q0 (n finite values) already: one compiled call, nothing checked again."""
+    sv = solver(robot)
+    if sv.plan is None:  # a general 6R: every real solution, nearest first
+        for q in all_exact(robot, T, q0, within_limits):
+            if rejects is None or not rejects(q):
+                return (q, *reach(robot, q, T))
+        return None
+    gf, gi = sv.prepared.get("rows") or packed(sv, sv.plan, np.zeros(1), robot)
+    flags = T.flags
+    if not (flags.c_contiguous and flags.writeable and T.dtype == np.float64):
+        T = np.array(T, dtype=float, order="C")
+    if q0 is robot.q_home:
+        q0 = sv.home
+    elif not q0.flags.writeable or q0.dtype != np.float64:
+        q0 = np.array(q0, dtype=float)
+    if rejects is None:  # the nearest turn of each branch holds the nearest solution
+        q, pos, rot, found, bad = nearest_solution(gf, gi, T, q0, NEAREST_TURN if within_limits else RAW)
+        return (q, pos, rot) if found and bad == -1 else None
+    Q, _, exact, needed, bad = run_one(gf, gi, T, q0, EVERY_TURN if within_limits else RAW)
+    if bad != -1 or needed > MAX_VALUES:
+        return None
+    for k in range(Q.shape[0]):
+        if exact[k] and not rejects(Q[k]):
+            pos, rot = reach_error(gf, gi, Q[k], T)
+            return Q[k], pos, rot
     return None
 
 

@@ -5,6 +5,8 @@ and :func:`robot_sim.ik.finish.expand`.  The robot's data travel packed in two a
 """
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 from numpy.typing import NDArray
@@ -13,23 +15,32 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
-from robot_sim.ik.finish import expand, screen
+from robot_sim.ik.finish import chord_angle, expand, fk_error, screen
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.jit import JIT
 
 FloatArray = NDArray[np.float64]
 #: Raw branches per pose, by kernel number.
 BRANCH_COUNTS = np.array([BRANCHES[kind] for kind in range(len(BRANCHES))])
-_HEAD = 10
+#: A pose is rigid when RᵀR = I and det R = 1 to this, and its last row is [0 0 0 1].
+RIGID_TOL = 1e-6
+#: Most joint values a result may hold (about 400 MB).
+MAX_VALUES = 50_000_000
+#: :func:`run`'s answer for a q0 holding NaN or infinite values (in place of a pose index).
+BAD_Q0 = -2
+_HEAD = 11  # integers before the joint kinds in the header
+_FHEAD = 2  # floats before the chain in each row: the free value and the tolerance
 
 
 def pack(p: Plan, sub: Screws, A: FloatArray, keep: NDArray[np.int64], full: Screws,
-         lo: FloatArray, hi: FloatArray) -> tuple[FloatArray, NDArray[np.int64]]:
-    """The float row (chain solved, constant rows, whole chain, limits) and the integer
-    header (plan, joint kinds and order) that :func:`run` unpacks."""
-    floats = np.concatenate([sub.H.ravel(), sub.P.ravel(), sub.M.ravel(), A.ravel(), full.H.ravel(),
+         lo: FloatArray, hi: FloatArray, value: float, tol: float,
+         check_rot: bool) -> tuple[FloatArray, NDArray[np.int64]]:
+    """The float row (free value, exactness tolerance, chain solved, constant rows, whole
+    chain, limits) and the integer header (plan, joint kinds and order, whether the
+    rotation is checked) that :func:`run` unpacks."""
+    floats = np.concatenate([[value, tol], sub.H.ravel(), sub.P.ravel(), sub.M.ravel(), A.ravel(), full.H.ravel(),
                              full.P.ravel(), full.M.ravel(), lo, hi])
-    head = [p.kind, p.case, *p.idx, -1 if p.free is None else p.free, int(p.reversed), sub.n, full.n]
+    head = [p.kind, p.case, *p.idx, -1 if p.free is None else p.free, int(p.reversed), sub.n, full.n, int(check_rot)]
     ints = np.concatenate([head, sub.revolute.astype(np.int64), keep, full.revolute.astype(np.int64)])
     return floats, ints.astype(np.int64)
 
@@ -59,10 +70,22 @@ def first_bad_pose(Ts: np.ndarray, tol: float) -> int:
 
 @numba.njit(**JIT)
 def _chain(g: np.ndarray, at: int, m: int) -> tuple:
-    """Screws H (m, 3), P (m, 3) and M (4, 4) packed in g from ``at``."""
-    H = g[at:at + 3 * m].copy().reshape((m, 3))
-    P = g[at + 3 * m:at + 6 * m].copy().reshape((m, 3))
-    return H, P, g[at + 6 * m:at + 6 * m + 16].copy().reshape((4, 4))
+    """Screws H (m, 3), P (m, 3) and M (4, 4) packed in g from ``at`` (views of g)."""
+    H = g[at:at + 3 * m].reshape((m, 3))
+    P = g[at + 3 * m:at + 6 * m].reshape((m, 3))
+    return H, P, g[at + 6 * m:at + 6 * m + 16].reshape((4, 4))
+
+
+@numba.njit(**JIT)
+def _whole(gf: np.ndarray, gi: np.ndarray) -> tuple:
+    """The whole chain packed after the solved one: H, P, M, limits lo, hi, joint kinds
+    (nonzero: revolute); views of gf and gi."""
+    m, n = gi[8], gi[9]
+    at = _FHEAD + 6 * m + 37
+    row = gf[0]
+    H, P, M = _chain(row, at, n)
+    at += 6 * n + 16
+    return H, P, M, row[at:at + n], row[at + n:at + 2 * n], gi[_HEAD + 2 * m:_HEAD + 2 * m + n]
 
 
 @numba.njit(**JIT)
@@ -76,70 +99,151 @@ def _inverse(T: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(**JIT)
-def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, values: np.ndarray, within: bool,
-        check_rot: bool, tol: float, max_values: int) -> tuple:
-    """Solutions of every pose Ts[i] for each free value (row v of gf is packed at
-    values[v]).  Returns (q, code, exact, count, needed): q (N, K, n) NaN-padded, nearest
-    q0 first; ``needed`` = N·K·n, and empty arrays when it exceeds ``max_values``."""
+def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+           raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
+    """Poses start..stop-1: the family's kernel for each free value (row v of gf is
+    packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
+    then :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions."""
     kind, case, free, rev_chain, m, n = gi[0], gi[1], gi[6], gi[7] != 0, gi[8], gi[9]
-    idx = gi[2:6].copy()
-    revs = gi[_HEAD:_HEAD + m] != 0
+    check_rot = gi[10] != 0
+    idx = gi[2:6]
+    revs = gi[_HEAD:_HEAD + m]  # nonzero: revolute
     keep = gi[_HEAD + m:_HEAD + 2 * m]
-    revf = gi[_HEAD + 2 * m:_HEAD + 2 * m + n] != 0
-    K = BRANCH_COUNTS[kind]
-    N, V = Ts.shape[0], values.shape[0]
-    raw = np.full((N, K * V, n), np.nan)
-    code = np.zeros((N, K * V), dtype=np.int64)
-    count = np.zeros(N, dtype=np.int64)
+    K, V = BRANCH_COUNTS[kind], gf.shape[0]
+    tol = gf[0, 1]
+    Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
+    sub_cs = np.empty((K, 2 * m))
     sub_code = np.zeros(K, dtype=np.int64)
+    cs = np.empty((K * V, 2 * n))
+    err = np.empty(K * V)
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
     Tinv = np.empty((4, 4))
-    for v in range(V):
-        Hs, Ps, Ms = _chain(gf[v], 0, m)
-        A = gf[v, 6 * m + 16:6 * m + 37].copy().reshape((7, 3))
-        for i in range(N):
-            T = Ts[i]
-            if rev_chain:
-                _inverse(Ts[i], Tinv)
-                T = Tinv
+    for i in range(start, stop):
+        T = Ts[i]
+        if rev_chain:
+            _inverse(Ts[i], Tinv)
+            T = Tinv
+        got_all = 0
+        for v in range(V):
+            row = gf[v]
+            Hs, Ps, Ms = _chain(row, _FHEAD, m)
+            A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
             sub[:, :] = np.nan
+            sub_cs[:, :] = np.nan
             if kind == SPHERICAL_WRIST:
-                got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code)
+                got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == THREE_PARALLEL:
-                got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code)
+                got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == PARALLEL_AXES:
                 got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
             else:
                 got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
             for k in range(got):
-                row = count[i]
+                at = got_all + k
+                cs[at, :] = np.nan
                 for j in range(m):
-                    raw[i, row, keep[j]] = sub[k, j]
+                    raw[i, at, keep[j]] = sub[k, j]
+                    cs[at, 2 * keep[j]] = sub_cs[k, 2 * j]
+                    cs[at, 2 * keep[j] + 1] = sub_cs[k, 2 * j + 1]
                 if free >= 0:
-                    raw[i, row, free] = values[v]
-                code[i, row] = sub_code[k]
-                count[i] = row + 1
-    at = 6 * m + 37
-    Hf, Pf, Mf = _chain(gf[0], at, n)
-    at += 6 * n + 16
-    lo = gf[0, at:at + n].copy()
-    hi = gf[0, at + n:at + 2 * n].copy()
-    exact = np.zeros((N, K * V), dtype=np.bool_)
+                    raw[i, at, free] = row[0]
+                code[i, at] = sub_code[k]
+            got_all += got
+        count[i], total[i] = screen(raw[i], code[i], cs, got_all, exact[i], err, Hf, Pf, revf, Mf, Ts[i], q0, lo,
+                                    hi, mode, check_rot, tol)
+
+
+@numba.njit(**JIT)
+def _pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+           raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray,
+           out: np.ndarray, out_code: np.ndarray, out_exact: np.ndarray, out_count: np.ndarray) -> None:
+    """Poses start..stop-1: :func:`robot_sim.ik.finish.expand` into out[i] (W, n)."""
+    _, _, _, lo, hi, revf = _whole(gf, gi)
+    W, n = out.shape[1], out.shape[2]
+    work, dist = np.empty((W, n)), np.empty(W)
+    source, order, spare = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
+    digit, ways, first = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n)
+    for i in range(start, stop):
+        out_count[i] = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i],
+                              out_exact[i], work, dist, source, order, spare, digit, ways, first)
+
+
+@numba.njit(**JIT)
+def _q0_finite(q0: np.ndarray) -> bool:
+    for j in range(q0.shape[0]):
+        if not math.isfinite(q0[j]):
+            return False
+    return True
+
+
+@numba.njit(**JIT)
+def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
+    """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
+    turns ``mode`` asks (RAW, EVERY_TURN or NEAREST_TURN of :mod:`robot_sim.ik.finish`).  Returns
+    (q, code, exact, count, needed, bad): q (N, K, n) NaN-padded, nearest q0 first;
+    ``needed`` = N·K·n, and empty arrays when it exceeds :data:`MAX_VALUES`; ``bad`` the
+    index of the first pose that is not a rigid transform (:data:`RIGID_TOL`), or
+    :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved), else -1.
+    Each pose goes through the same code as in :func:`run_one`."""
+    n = gi[9]
+    N = Ts.shape[0]
+    bad = first_bad_pose(Ts, RIGID_TOL)
+    if bad < 0 and not _q0_finite(q0):
+        bad = BAD_Q0
+    if bad != -1:
+        return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
+                np.zeros(N, dtype=np.int64), 0, bad)
+    K = BRANCH_COUNTS[gi[0]] * gf.shape[0]
+    raw = np.full((N, K, n), np.nan)
+    code = np.zeros((N, K), dtype=np.int64)
+    count = np.zeros(N, dtype=np.int64)
+    exact = np.zeros((N, K), dtype=np.bool_)
     total = np.zeros(N, dtype=np.int64)
-    screen(raw, code, count, exact, total, Hf, Pf, revf, Mf, Ts, q0, lo, hi, within, check_rot, tol)
+    _pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
     width = 0
     for i in range(N):
         width = max(width, total[i])
     needed = N * width * n
-    if needed > max_values:
+    if needed > MAX_VALUES:
         return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
-                total, needed)
+                total, needed, -1)
     out = np.full((N, width, n), np.nan)
     out_code = np.full((N, width), -1, dtype=np.int64)
     out_exact = np.zeros((N, width), dtype=np.bool_)
     out_count = np.zeros(N, dtype=np.int64)
-    expand(raw, code, count, exact, q0, lo, hi, revf, within, out, out_code, out_exact, out_count)
-    return out, out_code, out_exact, out_count, needed
+    _pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)
+    return out, out_code, out_exact, out_count, needed, -1
+
+
+@numba.njit(**JIT)
+def run_one(gf: np.ndarray, gi: np.ndarray, T: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
+    """:func:`run` of the one pose T (4, 4): (q (k, n), code (k,), exact (k,), needed, bad)."""
+    q, code, exact, count, needed, bad = run(gf, gi, T.reshape((1, 4, 4)), q0, mode)
+    if q.shape[0] == 0:  # not solved
+        return np.empty((0, q.shape[2])), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.bool_), needed, bad
+    k = count[0]
+    return q[0, :k], code[0, :k], exact[0, :k], needed, bad
+
+
+@numba.njit(**JIT)
+def reach_error(gf: np.ndarray, gi: np.ndarray, q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
+    """Position error [m] and rotation angle [rad] of the tool at q (n,) against T (4, 4),
+    on the whole chain packed in gf, gi."""
+    H, P, M, _, _, rev = _whole(gf, gi)
+    pos, chord = fk_error(H, P, rev, M, q, np.full(2 * q.shape[0], np.nan), T, True)
+    return pos, chord_angle(chord)
+
+
+@numba.njit(**JIT)
+def nearest_solution(gf: np.ndarray, gi: np.ndarray, T: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
+    """The first exact solution :func:`run_one` lists for T (4, 4), with its position [m]
+    and rotation [rad] errors (:func:`reach_error`): (q (n,), pos, rot, found, bad)."""
+    q, _, exact, _, bad = run_one(gf, gi, T, q0, mode)
+    for k in range(q.shape[0]):
+        if exact[k]:
+            pos, rot = reach_error(gf, gi, q[k], T)
+            return q[k].copy(), pos, rot, True, bad
+    return np.zeros(q.shape[1]), 0.0, 0.0, False, bad

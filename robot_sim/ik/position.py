@@ -28,7 +28,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.ik.subproblems import add, dot, norm, perp, rot, scale, sp1, sp2, sp3, sp4, sub
+from robot_sim.ik.subproblems import add, dot, norm, perp, rot_cs, scale, sp1, sp2, sp3, sp4, sub
 from robot_sim.kernels.jit import JIT
 
 ONE_TWO_MEET, ONE_TWO_MEET_SLIDE, TWO_THREE_PARALLEL, ONE_TWO_PARALLEL, TWO_THREE_MEET = range(5)
@@ -42,18 +42,26 @@ def row(A: np.ndarray, i: int) -> tuple[float, float, float]:
 
 
 @numba.njit(inline="always", **JIT)
+def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, float, float]:
+    """E(q) x for a revolute joint about the line (p, h), given c = cos q and s = sin q."""
+    return add(rot_cs(h, c, s, sub(x, p)), p)
+
+
+@numba.njit(inline="always", **JIT)
 def turn(h: tuple, p: tuple, q: float, x: tuple) -> tuple[float, float, float]:
     """E(q) x for a revolute joint about the line (p, h)."""
-    return add(rot(h, q, sub(x, p)), p)
+    return turn_cs(h, p, math.cos(q), math.sin(q), x)
 
 
 @numba.njit(**JIT)
-def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, q: np.ndarray, pw: tuple) -> int:
-    """Shoulder and elbow bits of arm joints q[0], q[1] reaching the point pw."""
+def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
+                 pw: tuple) -> int:
+    """Shoulder and elbow bits of arm joints q_0, q_1 (given by their cosines and sines)
+    reaching the point pw."""
     h0, p0, h1, p1 = row(H, 0), row(P, 0), row(H, 1), row(P, 1)
-    bits = SHOULDER_LEFT if dot(f0, rot(h0, -q[0], sub(pw, p0))) < 0.0 else 0
-    shoulder = turn(h0, p0, q[0], p1)
-    elbow = turn(h0, p0, q[0], turn(h1, p1, q[1], row(P, 2)))
+    bits = SHOULDER_LEFT if dot(f0, rot_cs(h0, c0, -s0, sub(pw, p0))) < 0.0 else 0
+    shoulder = turn_cs(h0, p0, c0, s0, p1)
+    elbow = turn_cs(h0, p0, c0, s0, turn_cs(h1, p1, c1, s1, row(P, 2)))
     v, line = sub(elbow, shoulder), sub(pw, shoulder)
     ll = dot(line, line)
     if ll > 0.0:

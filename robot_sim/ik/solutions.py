@@ -5,15 +5,16 @@ tool pose 4×4, joint values in rad (revolute) or m (prismatic).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.classify import Plan, aux_rows, plan
 from robot_sim.ik.family import GENERAL_6R, IKFamily, Solver, solver
+from robot_sim.ik.finish import EVERY_TURN, RAW
 from robot_sim.ik.general import NAMES, general_data, general_solutions
-from robot_sim.ik.pipeline import first_bad_pose, pack, run
+from robot_sim.ik.pipeline import BAD_Q0, MAX_VALUES, RIGID_TOL, first_bad_pose, pack, run, run_one
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import check_joint_vector
@@ -23,59 +24,97 @@ FloatArray = NDArray[np.float64]
 #: A branch is exact when it puts the tool within this of T [m, rad] (scaled by the
 #: robot's size for positions, 1 m at least).
 EXACT_TOL = 1e-9
-#: A pose is rigid when RᵀR = I and det R = 1 to this, and its last row is [0 0 0 1].
-RIGID_TOL = 1e-6
 #: Most poses of one batch, and most free-joint values of a sweep (bounds on the arrays).
 MAX_POSES = 2_000_000
 MAX_FREE_VALUES = 10_000
-#: Most joint values a result may hold (about 400 MB).
-MAX_VALUES = 50_000_000
+
+class _Fields(NamedTuple):
+    q: FloatArray
+    exact: NDArray[np.bool_]
+    count: int | NDArray[np.int64]
+    codes: NDArray[np.int64]
+    family: IKFamily
+    names: NDArray[np.str_]  # branch number -> name, '' at index -1
 
 
-@dataclass(frozen=True)
-class IKSolutions:
-    """Solutions of :func:`ik_solutions`.
+class IKSolutions(_Fields):
+    """Solutions of :func:`ik_solutions` (a named tuple of the fields below: read only,
+    and cheap to build).
 
     One pose: ``q`` (k, n) nearest to q0 first, ``branch`` the k posture names (see
     :attr:`IKFamily.postures`; "branch b" where the family names none), ``exact`` (k,)
     False for least-squares configurations of a pose out of reach, ``count`` = k.
     A batch of N poses: ``q`` (N, K, n) padded with NaN, ``branch`` (N, K) names ('' as
     padding), ``exact`` (N, K), ``count`` (N,).  ``codes`` holds the branch numbers the
-    names come from (-1 as padding).
+    names come from (-1 as padding); ``len()`` is the number of solutions (of poses for
+    a batch).
     """
 
-    q: FloatArray
-    branch: tuple[str, ...] | NDArray[np.str_]
-    exact: NDArray[np.bool_]
-    count: int | NDArray[np.int64]
-    codes: NDArray[np.int64]
-    family: IKFamily
+    __slots__ = ()
+
+    @property
+    def branch(self) -> tuple[str, ...] | NDArray[np.str_]:
+        names = self.names[self.codes]
+        return tuple(names.tolist()) if self.codes.ndim == 1 else names
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
 
+    def __repr__(self) -> str:
+        return f"<IKSolutions of {self.family.name}: q {self.q.shape}, count {self.count}>"
+
+    def take(self, rows: ArrayLike) -> "IKSolutions":
+        """The solutions ``rows`` (indices) of one pose's solutions, in that order."""
+        rows = np.asarray(rows, dtype=np.int64)
+        return IKSolutions(self.q[rows], self.exact[rows], len(rows), self.codes[rows], self.family, self.names)
+
+
+_SHAPE_ERROR = "T must be a 4x4 transform or an (N, 4, 4) array of them"
+
+
+_F64 = np.dtype(np.float64)
+
 
 def _poses(T: ArrayLike) -> tuple[FloatArray, bool]:
-    """T as a contiguous (N, 4, 4) array of rigid transforms, and whether it was one pose."""
-    try:
-        arr = np.asarray(T.mat if hasattr(T, "mat") else T, dtype=float)
-    except (ValueError, TypeError):
-        raise ValueError(f"T must be a 4x4 transform or an (N, 4, 4) array of them, got {clip_repr(T)}") from None
-    single = arr.ndim == 2
-    if arr.shape[-2:] != (4, 4) or arr.ndim not in (2, 3):
-        raise ValueError(f"T must be a 4x4 transform or an (N, 4, 4) array of them, got shape {arr.shape}")
-    arr = np.ascontiguousarray(arr.reshape(-1, 4, 4))
-    if not arr.flags.writeable:
-        arr = arr.copy()
-    if arr.shape[0] > MAX_POSES:
-        raise ValueError(f"T holds {arr.shape[0]} poses; at most {MAX_POSES} per call")
-    bad = first_bad_pose(arr, RIGID_TOL)
-    if bad >= 0:
-        where = "T" if single else f"T[{bad}]"
-        why = "holds NaN or infinite values" if not np.isfinite(arr[bad]).all() else (
-            "is not a rigid transform (needs an orthonormal rotation with det +1 and bottom row [0 0 0 1])")
-        raise ValueError(f"{where} {why}, got {clip_repr(arr[bad].tolist())}")
-    return arr, single
+    """T as a contiguous writable (4, 4) or (N, 4, 4) float array, and whether it is one
+    pose (its rigidity is checked by the compiled :func:`robot_sim.ik.pipeline.run`)."""
+    if type(T) is np.ndarray and T.dtype is _F64:
+        arr = T
+    else:
+        try:
+            arr = np.asarray(T.mat if hasattr(T, "mat") else T, dtype=float)
+        except (ValueError, TypeError):
+            raise ValueError(f"{_SHAPE_ERROR}, got {clip_repr(T)}") from None
+    shape = arr.shape
+    if shape != (4, 4) and (len(shape) != 3 or shape[1:] != (4, 4)):
+        raise ValueError(f"{_SHAPE_ERROR}, got shape {shape}")
+    if len(shape) == 3 and shape[0] > MAX_POSES:
+        raise ValueError(f"T holds {shape[0]} poses; at most {MAX_POSES} per call")
+    flags = arr.flags
+    if not (flags.c_contiguous and flags.writeable):  # numba compiles read-only arrays as another signature
+        arr = np.array(arr, order="C")
+    return arr, len(shape) == 2
+
+
+def _bad_pose(arr: FloatArray, bad: int) -> ValueError:
+    """The error for pose ``bad`` of T, which is not a rigid transform."""
+    pose = arr if arr.ndim == 2 else arr[bad]
+    where = "T" if arr.ndim == 2 else f"T[{bad}]"
+    why = "holds NaN or infinite values" if not np.isfinite(pose).all() else (
+        "is not a rigid transform (needs an orthonormal rotation with det +1 and bottom row [0 0 0 1])")
+    return ValueError(f"{where} {why}, got {clip_repr(pose.tolist())}")
+
+
+def _start(robot: RobotParams, sv: Solver, q0: ArrayLike | None) -> FloatArray:
+    """q0 as a writable float (n,) array (its finiteness is checked by the compiled run)."""
+    if q0 is None:
+        return sv.home
+    if type(q0) is np.ndarray and q0.dtype == np.float64 and q0.shape == (robot.n_dofs,) and q0.flags.writeable:
+        return q0
+    q = np.array(check_joint_vector(q0, robot.n_dofs, "q0"))
+    if q.ndim != 1:
+        raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q.shape}")
+    return q
 
 
 def _free_values(robot: RobotParams, sv: Solver, q0: FloatArray, free_joint: object,
@@ -106,13 +145,14 @@ def _free_values(robot: RobotParams, sv: Solver, q0: FloatArray, free_joint: obj
     return p, np.array([q0[p.free]]) if p is not None and p.free is not None else np.zeros(1)
 
 
-def _packed(sv: Solver, p: Plan, values: FloatArray, robot: RobotParams) -> tuple[FloatArray, NDArray[np.int64]]:
+def packed(sv: Solver, p: Plan, values: FloatArray, robot: RobotParams) -> tuple[FloatArray, NDArray[np.int64]]:
     """The packed rows of :func:`robot_sim.ik.pipeline.run` for each free value: the chain
     the kernel solves (the free joint folded at the value, reversed if the plan says so),
-    its constant rows and joint order; kept per solver when nothing is folded."""
-    key = (p.kind, p.case, p.idx, p.reversed, p.free)
-    if p.free is None and key in sv.prepared:
-        return sv.prepared[key]
+    its constant rows and joint order; kept per solver when nothing is folded (the
+    solver's own plan)."""
+    if p.free is None and "rows" in sv.prepared:
+        return sv.prepared["rows"]
+    tol, check_rot = EXACT_TOL * max(sv.size, 1.0), sv.family.task != "position"
     rows, ints = [], None
     for value in values:
         S = sv.screws
@@ -123,11 +163,12 @@ def _packed(sv: Solver, p: Plan, values: FloatArray, robot: RobotParams) -> tupl
         if p.reversed:
             S = S.reversed()
             keep = keep[::-1].copy()
-        row, ints = pack(p, S, aux_rows(p, S, sv.size), keep, sv.screws, robot.q_min, robot.q_max)
+        row, ints = pack(p, S, aux_rows(p, S, sv.size), keep, sv.screws, robot.q_min, robot.q_max, float(value), tol,
+                         check_rot)
         rows.append(row)
     found = (np.stack(rows), ints)
     if p.free is None:
-        sv.prepared[key] = found
+        sv.prepared["rows"] = found
     return found
 
 
@@ -157,34 +198,54 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     if not isinstance(robot, RobotParams):
         raise ValueError(f"ik_solutions needs a RobotParams, got {type(robot).__name__}")
     Ts, single = _poses(T)
-    # writable copies: numba compiles read-only arrays (the robot's) as another signature
-    q0 = np.array(robot.q_home if q0 is None else check_joint_vector(q0, robot.n_dofs, "q0"))
-    if q0.ndim != 1:
-        raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q0.shape}")
     sv = solver(robot)
-    p, values = _free_values(robot, sv, q0, free_joint, free_values)
-    names = sv.names
-    general = general_data(robot, sv) if p is None and sv.family.name == GENERAL_6R else None
-    if general is not None:  # every real root of Raghavan and Roth's polynomial
-        out, out_code, out_exact, out_count, needed = general_solutions(
-            general, robot, Ts, q0, bool(within_limits), EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
-        names = NAMES
-    elif p is None and sv.family.name == GENERAL_6R:
-        raise ValueError(f"{robot.name}: a general 6R whose axes 1, 2 and axes 5, 6 both meet or run parallel "
-                         "has no elimination here; use solve_ik")
-    elif p is None:
-        raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
+    start = _start(robot, sv, q0)
+    rows = sv.prepared.get("rows") if free_joint is None and free_values is None else None
+    if rows is not None:  # the solver's own plan, packed before
+        gf, gi = rows
     else:
-        gf, gi = _packed(sv, p, values, robot)
-        out, out_code, out_exact, out_count, needed = run(
-            gf, gi, Ts, q0, values, bool(within_limits), sv.family.task != "position",
-            EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
+        p, values = _free_values(robot, sv, start, free_joint, free_values)
+        if p is None and sv.family.name == GENERAL_6R:
+            return _general(robot, sv, Ts, single, start, q0, within_limits)
+        if p is None:
+            raise ValueError(f"{robot.name} has no closed-form inverse kinematics ({sv.family.name}); use solve_ik")
+        gf, gi = packed(sv, p, values, robot)
+    mode = EVERY_TURN if within_limits else RAW
+    if single:
+        q, code, exact, needed, bad = run_one(gf, gi, Ts, start, mode)
+        count = len(q)
+    else:
+        q, code, exact, count, needed, bad = run(gf, gi, Ts, start, mode)
+    _check(robot, Ts, q0, bad, needed)
+    return IKSolutions(q, exact, count, code, sv.family, sv.names)
+
+
+def _check(robot: RobotParams, Ts: FloatArray, q0: ArrayLike | None, bad: int, needed: int) -> None:
+    """Raise for what a compiled run reported: a q0 with NaN or infinite values, pose
+    ``bad`` of T not rigid, or more joint values than the output may hold."""
+    if bad == BAD_Q0:
+        check_joint_vector(q0, robot.n_dofs, "q0")  # raises, naming what is not finite
+    if bad != -1:
+        raise _bad_pose(Ts, bad)
     if needed > MAX_VALUES:
         raise ValueError(f"the solutions would hold {needed} joint values (at most {MAX_VALUES}): "
                          "solve fewer poses at a time, or with within_limits=False")
-    if single:
-        k = int(out_count[0])
-        return IKSolutions(out[0, :k], tuple(names[out_code[0, :k]].tolist()), out_exact[0, :k], k,
-                           out_code[0, :k], sv.family)
-    return IKSolutions(out, names[out_code], out_exact, out_count, out_code, sv.family)
 
+
+def _general(robot: RobotParams, sv: Solver, Ts: FloatArray, single: bool, start: FloatArray,
+             q0: ArrayLike | None, within_limits: bool) -> IKSolutions:
+    """Every real solution of a general 6R arm by Raghavan and Roth's elimination
+    (:mod:`robot_sim.ik.general`), named "solution k" in the order of q3."""
+    data = general_data(robot, sv)
+    if data is None:
+        raise ValueError(f"{robot.name}: a general 6R whose axes 1, 2 and axes 5, 6 both meet or run parallel "
+                         "has no elimination here; use solve_ik")
+    batch = Ts[None] if single else Ts
+    _check(robot, Ts, q0, BAD_Q0 if not np.isfinite(start).all() else first_bad_pose(batch, RIGID_TOL), 0)
+    q, code, exact, count, needed = general_solutions(data, robot, batch, start, bool(within_limits),
+                                                      EXACT_TOL * max(sv.size, 1.0), MAX_VALUES)
+    _check(robot, Ts, q0, -1, needed)
+    if single:
+        k = int(count[0])
+        return IKSolutions(q[0, :k], exact[0, :k], k, code[0, :k], sv.family, NAMES)
+    return IKSolutions(q, exact, count, code, sv.family, NAMES)

@@ -59,26 +59,37 @@ def perp(k: Vec, a: Vec) -> Vec:
 
 
 @numba.njit(inline="always", **JIT)
-def rot(k: Vec, theta: float, x: Vec) -> Vec:
-    """R(k, θ) x by Rodrigues' formula."""
-    c, s = math.cos(theta), math.sin(theta)
+def rot_cs(k: Vec, c: float, s: float, x: Vec) -> Vec:
+    """R(k, θ) x by Rodrigues' formula, given c = cos θ and s = sin θ (so that solvers
+    turning by one angle many times take its cosine and sine once)."""
     kx = dot(k, x) * (1.0 - c)
     w = cross(k, x)
     return (c * x[0] + s * w[0] + kx * k[0], c * x[1] + s * w[1] + kx * k[1], c * x[2] + s * w[2] + kx * k[2])
+
+
+@numba.njit(inline="always", **JIT)
+def rot(k: Vec, theta: float, x: Vec) -> Vec:
+    """R(k, θ) x by Rodrigues' formula."""
+    return rot_cs(k, math.cos(theta), math.sin(theta), x)
 
 
 #: Below this length a vector has no direction (the subproblem's angle is free).
 DEGENERATE = 1e-12
 
 
+@numba.njit(inline="always", **JIT)
+def _angle(k: Vec, a: Vec, b: Vec, default: float) -> float:
+    """θ that turns a onto b about k, both ⟂ k; ``default`` when either vanishes."""
+    if dot(a, a) < DEGENERATE * DEGENERATE or dot(b, b) < DEGENERATE * DEGENERATE:
+        return default
+    return math.atan2(dot(k, cross(a, b)), dot(a, b))
+
+
 @numba.njit(**JIT)
 def sp1(k: Vec, p1: Vec, p2: Vec, default: float) -> float:
     """θ that turns p1 about k onto p2 (their projections on the plane ⟂ k); ``default``
     when either projection vanishes (any θ does)."""
-    a, b = perp(k, p1), perp(k, p2)
-    if norm(a) < DEGENERATE or norm(b) < DEGENERATE:
-        return default
-    return math.atan2(dot(k, cross(a, b)), dot(a, b))
+    return _angle(k, perp(k, p1), perp(k, p2), default)
 
 
 @numba.njit(**JIT)
@@ -127,7 +138,9 @@ def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple[float
     exact = g2 > -1e-9
     g = math.sqrt(g2) if g2 > 0.0 else 0.0
     va, vb = add(v0, scale(g, n)), sub(v0, scale(g, n))
-    return sp1(k1, u1, va, d1), sp1(k2, u2, va, d2), sp1(k1, u1, vb, d1), sp1(k2, u2, vb, d2), exact
+    a1, a2 = perp(k1, u1), perp(k2, u2)  # SP1 four times, sharing what it can
+    return (_angle(k1, a1, perp(k1, va), d1), _angle(k2, a2, perp(k2, va), d2), _angle(k1, a1, perp(k1, vb), d1),
+            _angle(k2, a2, perp(k2, vb), d2), exact)
 
 
 @numba.njit(**JIT)

@@ -14,6 +14,8 @@ def _is_real(value: object) -> bool:
 
 
 def _check_tolerance(name: str, value: float) -> float:
+    if type(value) is float and 0.0 < value < math.inf:  # the common case, answered first
+        return value
     if not (_is_real(value) and math.isfinite(value) and value > 0.0):
         raise ValueError(f"{name} must be a positive finite number, got {clip_repr(value)}")
     return float(value)
@@ -21,6 +23,8 @@ def _check_tolerance(name: str, value: float) -> float:
 
 def _check_int(name: str, value: int, minimum: int) -> int:
     """``value`` as an int >= ``minimum`` (Python or NumPy integer, not bool); ValueError otherwise."""
+    if type(value) is int and value >= minimum:  # the common case, answered first
+        return value
     if not (isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) and value >= minimum):
         wanted = "a positive integer" if minimum == 1 else f"an integer >= {minimum}"
         raise ValueError(f"{name} must be {wanted}, got {clip_repr(value)}")

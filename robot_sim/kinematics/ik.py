@@ -5,7 +5,9 @@ and differential IK (:func:`diff_ik_velocity`).  Frames and units:
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Protocol
 
 import numpy as np
@@ -209,6 +211,13 @@ class _IKProblem:
         return jac.T @ np.linalg.solve(gram, pose.err)
 
 
+def _closed_form() -> ModuleType:
+    """``robot_sim.ik.nearest``, imported on first use (robot_sim.ik imports this package)."""
+    from robot_sim.ik import nearest
+
+    return nearest
+
+
 def solve_ik(
     robot_params: RobotParams,
     target: HomogeneousTransform | ArrayLike,
@@ -251,7 +260,10 @@ def solve_ik(
     or non-finite ``q0``, or non-positive tolerances.
     """
     robot = robot_params
-    tmat = _target_matrix(target)
+    # A float (4, 4) array goes to the closed form unchecked: its compiled check is as strict
+    # (robot_sim.ik.pipeline.RIGID_TOL); the numerical path checks it first.
+    plain = type(target) is np.ndarray and target.dtype == np.float64 and target.shape == (4, 4)
+    tmat = target if plain else _target_matrix(target)
     tol_pos = _check_tolerance("tol_pos", tol_pos)
     tol_rot = _check_tolerance("tol_rot", tol_rot)
     max_iter = _check_int("max_iter", max_iter, 1)
@@ -259,7 +271,7 @@ def solve_ik(
     seed = _check_seed(seed)
     if checker is not None and not callable(getattr(checker, "in_collision", None)):
         raise ValueError(f"checker must have an in_collision(q) method (a CollisionChecker), got {clip_repr(checker)}")
-    q = check_joint_vector(robot.q_home if q0 is None else q0, robot.n_dofs, "q0")
+    q = robot.q_home if q0 is None else check_joint_vector(q0, robot.n_dofs, "q0")  # home: checked on loading
     if q.ndim != 1:
         raise ValueError(f"q0 must be one configuration of shape ({robot.n_dofs},), got {q.shape}")
 
@@ -267,21 +279,21 @@ def solve_ik(
     if not position_only and ik_position_only_required(robot):
         position_only = True
         message = f"{robot.name} has {robot.n_dofs} joints (< 6): solved for position only. "
+    nearest = sys.modules.get("robot_sim.ik.nearest") or _closed_form()
+    if nearest.answers(robot, position_only):  # closed form first, where the arm has one
+        found = nearest.nearest_exact(robot, tmat, q, respect_limits, None if checker is None else checker.in_collision)
+        if found is not None:
+            q_exact, pos_err, rot_err = found
+            rot_err = 0.0 if position_only else rot_err
+            if pos_err <= tol_pos and rot_err <= tol_rot:
+                return IKResult(q_exact, True, 0, 0, pos_err, rot_err, position_only,
+                                message + "analytic: the exact solution nearest to q0")
+    if plain:
+        tmat = _target_matrix(target)
     if respect_limits:
         lo, hi = np.array(robot.q_min), np.array(robot.q_max)
     else:
         lo, hi = np.full(robot.n_dofs, -np.inf), np.full(robot.n_dofs, np.inf)
-    from robot_sim.ik.nearest import answers, nearest_exact  # closed form first, where the arm has one
-
-    if answers(robot, position_only):
-        q_exact = nearest_exact(robot, tmat, q, respect_limits, None if checker is None else checker.in_collision)
-        model = _model(robot)  # its single-configuration chain: the batched walk costs more for one
-        ee = model.frames(*model.th_d(q_exact), robot.base_tf.mat)[-1] @ model.tool if q_exact is not None else tmat
-        pos_err = float(np.linalg.norm(tmat[:3, 3] - ee[:3, 3]))
-        rot_err = 0.0 if position_only else float(np.linalg.norm(rotation_log(tmat[:3, :3] @ ee[:3, :3].T)))
-        if q_exact is not None and pos_err <= tol_pos and rot_err <= tol_rot:
-            return IKResult(q_exact, True, 0, 0, pos_err, rot_err, position_only,
-                            message + "analytic: the exact solution nearest to q0")
     problem = _IKProblem(robot, tmat, position_only, lo, hi, tol_pos, tol_rot)
     rng = np.random.default_rng(seed)
     distance = float(np.linalg.norm(tmat[:3, 3] - robot.base_tf.mat[:3, 3]))

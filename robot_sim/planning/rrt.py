@@ -146,7 +146,8 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     joints over [−π, π], widened to hold start and goal); each extension is one straight
     edge checked continuously at the resolution of ``checker.path_is_free``.  The path found is then shortcut and smoothed
     (:mod:`robot_sim.planning.smoothing`), keeping it free.  The same ``seed`` gives the
-    same path (the search is stopped by ``time_limit`` [s] only when it fails).
+    same path (the search is stopped by ``time_limit`` [s] only when it fails; its clock
+    starts after the checks of start, goal and the straight line).
 
     Start or goal outside the limits or in collision, or no path within ``time_limit``,
     give ``success=False`` with a message naming which; ValueError only for malformed
@@ -181,7 +182,9 @@ def plan_path(robot: RobotParams, q_start: ArrayLike, q_goal: ArrayLike, checker
     if counter.edges_free(qs[None], qg[None])[0]:
         return result(True, np.stack([qs, qg]), "straight joint-space line is free")
     rng = np.random.default_rng(seed)
-    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, t0 + limit)
+    # the search's clock starts here: the checks above compile the checker's kernels on a
+    # process's first call, which must not eat the search's time
+    raw, nodes = _rrt_connect(counter, lo, hi, qs, qg, rng, time.perf_counter() + limit)
     if raw is None:
         return result(False, None, f"no path found within {limit:g} s ({nodes} tree nodes)")
     short = shortcut(counter, raw, rng)

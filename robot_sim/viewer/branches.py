@@ -5,7 +5,7 @@ shows all at once): every closed-form solution of the target pose
 nearest to the arm's joints when first asked, kept until the target moves or hides."""
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -47,8 +47,7 @@ def one_per_posture(solutions: IKSolutions) -> IKSolutions:
     """The first (nearest) solution of each branch code of one pose's ``solutions``, in order."""
     _, first = np.unique(solutions.codes, return_index=True)
     keep = np.sort(first)
-    return replace(solutions, q=solutions.q[keep], branch=tuple(solutions.branch[i] for i in keep),
-                   exact=solutions.exact[keep], count=len(keep), codes=solutions.codes[keep])
+    return solutions.take(keep)
 
 
 def solve_branches(robot: RobotParams, target: np.ndarray, q0: np.ndarray) -> Branches | str:

@@ -9,6 +9,7 @@ import pytest
 from ik_helpers import REACH_TOL, check_complete, pose_errors
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, robot, sweep
 from robot_sim.ik.family import ik_family
+from robot_sim.ik.finish import stable_order
 from robot_sim.ik.solutions import ik_solutions
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
@@ -143,6 +144,23 @@ def test_a_batch_equals_single_poses_bit_for_bit() -> None:
         assert k == len(one)
         assert np.array_equal(batch.q[i, :k], one.q) and tuple(batch.branch[i, :k]) == one.branch
         assert np.isnan(batch.q[i, k:]).all() and (batch.branch[i, k:] == "").all()
+
+
+@pytest.mark.parametrize("m", [0, 1, 2, 7, 16, 17, 64, 420])
+def test_the_solutions_sort_as_a_stable_argsort(m: int) -> None:
+    key = np.random.default_rng(m).integers(0, max(m // 3, 1), m).astype(float)  # many ties
+    order, spare = np.full(m + 3, -1), np.full(m + 3, -1)
+    stable_order(key, m, order, spare)
+    np.testing.assert_array_equal(order[:m], np.argsort(key, kind="stable"))
+    assert (order[m:] == -1).all()
+
+
+def test_solutions_are_read_only() -> None:
+    arm = robot("puma560")
+    sols = ik_solutions(arm, forward_kinematics(arm, arm.q_home))
+    with pytest.raises(AttributeError):
+        sols.q = None  # type: ignore[misc]
+    assert len(sols.take([1, 0])) == 2 and sols.take([1, 0]).branch == (sols.branch[1], sols.branch[0])
 
 
 def test_a_pose_out_of_reach_gives_least_squares_branches() -> None:

@@ -13,7 +13,7 @@ from ik_helpers import REACH_TOL, pose_errors
 from kin_helpers import robot
 from plan_helpers import free_at
 from robot_sim.ik.solutions import ik_solutions
-from robot_sim.kinematics import forward_kinematics, solve_ik
+from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik
 from robot_sim.planning.cartesian import cartesian_line
 from robot_sim.planning.pose_goal import ik_branches, plan_to_pose
 from robot_sim.planning.rrt import plan_path
@@ -32,6 +32,29 @@ def test_solve_ik_returns_the_nearest_exact_solution(name: str) -> None:
     assert res.success and res.iterations == 0 and res.message == "analytic: the exact solution nearest to q0"
     np.testing.assert_array_equal(res.q, ik_solutions(arm, T, q0).q[0])
     assert res.pos_err < REACH_TOL and res.rot_err < REACH_TOL
+
+
+@pytest.mark.parametrize("name", ["ur5", "kr6_r900"])  # joints whose range exceeds 2π: many turns
+def test_solve_ik_takes_the_first_of_every_turn(name: str) -> None:
+    arm = robot(name)
+    rng = np.random.default_rng(7)
+    Q = random_configurations(arm, 40, rng)
+    for q, q0 in zip(Q, random_configurations(arm, 40, rng)):
+        T = forward_kinematics(arm, q)
+        res = solve_ik(arm, T, q0)
+        assert res.success and res.iterations == 0
+        np.testing.assert_array_equal(res.q, ik_solutions(arm, T, q0).q[0])
+
+
+def test_solve_ik_answers_a_target_only_its_own_check_accepts() -> None:
+    arm = robot("puma560")
+    T = forward_kinematics(arm, arm.q_home + 0.3)
+    T[:3, 0] *= 1.0 + 3e-6  # columns off unit length by 6e-6, det 1: within solve_ik's tolerance
+    T[:3, 1] /= 1.0 + 3e-6  # (1e-6 + 1e-5 on the diagonal), not the analytic solver's (1e-6)
+    with pytest.raises(ValueError, match=r"T is not a rigid transform"):
+        ik_solutions(arm, T)
+    res = solve_ik(arm, T)  # the numerical path answers it
+    assert res.iterations > 0 and res.pos_err < 1e-5
 
 
 def test_solve_ik_skips_solutions_the_checker_rejects() -> None:
