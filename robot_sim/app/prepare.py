@@ -124,13 +124,13 @@ def config_from_args(args: argparse.Namespace) -> Config:
 
 
 def check_ik_branches(robot: RobotParams) -> None:
-    """CliError for --ik-branches on an arm without a closed-form IK (the analytic solver,
+    """CliError for --ik-branches on an arm the analytic IK does not solve (the solver,
     compiled with numba, is loaded only then)."""
-    from robot_sim.ik.family import ik_family
+    from robot_sim.ik.solutions import unsolved
 
-    family = ik_family(robot)
-    if not family.closed_form:
-        raise CliError(f"--ik-branches: {robot.name} has no closed-form IK ({family.name})")
+    why = unsolved(robot)
+    if why is not None:
+        raise CliError(f"--ik-branches: {robot.name} has {why}")
 
 
 def load_robot_arg(args: argparse.Namespace) -> RobotParams:

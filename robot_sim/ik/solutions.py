@@ -172,6 +172,19 @@ def packed(sv: Solver, p: Plan, values: FloatArray, robot: RobotParams) -> tuple
     return found
 
 
+def unsolved(robot: RobotParams) -> str | None:
+    """Why :func:`ik_solutions` cannot answer ``robot`` ("no closed-form IK (family)"),
+    or None when it can: a closed form, or a general 6R that the elimination solves."""
+    sv = solver(robot)
+    if sv.family.closed_form:
+        return None
+    if sv.family.name == GENERAL_6R:
+        if general_data(robot, sv) is not None:
+            return None
+        return f"no closed-form IK ({GENERAL_6R} whose axes 1, 2 and axes 5, 6 both meet or run parallel)"
+    return f"no closed-form IK ({sv.family.name})"
+
+
 def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, *, within_limits: bool = True,
                  free_joint: int | None = None, free_values: ArrayLike | None = None) -> IKSolutions:
     """Every joint vector that puts ``robot``'s tool at the pose ``T`` (world, 4×4), or

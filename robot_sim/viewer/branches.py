@@ -52,14 +52,13 @@ def one_per_posture(solutions: IKSolutions) -> IKSolutions:
 
 def solve_branches(robot: RobotParams, target: np.ndarray, q0: np.ndarray) -> Branches | str:
     """The branches of the world pose ``target`` (4×4) nearest to ``q0`` (n,) first, or the
-    status message saying why there are none: no closed form, or no solution inside the
-    joint limits."""
-    from robot_sim.ik.family import ik_family
-    from robot_sim.ik.solutions import ik_solutions
+    status message saying why there are none: no closed form (nor a general 6R's
+    elimination), or no solution inside the joint limits."""
+    from robot_sim.ik.solutions import ik_solutions, unsolved
 
-    family = ik_family(robot)
-    if not family.closed_form:
-        return f"IK branches: {robot.name} has no closed-form IK ({family.name})"
+    why = unsolved(robot)
+    if why is not None:
+        return f"IK branches: {robot.name} has {why}"
     solutions = one_per_posture(ik_solutions(robot, target, q0))
     if len(solutions) == 0:
         return "IK branches: no solution of the target inside the joint limits"

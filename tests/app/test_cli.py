@@ -293,11 +293,11 @@ def test_ik_branches_of_an_arm_without_a_closed_form_is_one_line(tmp_path: Path)
     from robot_sim.io.robot_writer import to_toml
     from robot_sim.model.params import RobotParams
 
-    arm = RobotParams.from_arrays("general", [0.3, 0.2, 0.4, 0.15, 0.25, 0.1], [0.4, 1.1, -0.7, 0.9, -1.2, 0.5],
-                                  [0.2, 0.15, 0.1, 0.25, 0.12, 0.18], np.zeros(6), np.zeros(6))
-    path = tmp_path / "general.toml"
+    arm = RobotParams.from_arrays("skewed", [0.3, 0.2, 0.4, 0.15, 0.25], [0.4, 1.1, -0.7, 0.9, -1.2],
+                                  [0.2, 0.15, 0.1, 0.25, 0.12], np.zeros(5), np.zeros(5))
+    path = tmp_path / "skewed.toml"
     path.write_text(to_toml(arm))
     out = tmp_path / "never.png"
     assert_one_line_error(run("--robot", str(path), "--ik-branches", "--screenshot", str(out)),
-                          "--ik-branches: general has no closed-form IK (general 6R)")
+                          "--ik-branches: skewed has no closed-form IK (general)")
     assert not out.exists()

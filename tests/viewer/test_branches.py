@@ -86,20 +86,43 @@ def test_moving_the_target_forgets_its_branches() -> None:
 
 
 def general_6r() -> RobotParams:
-    """Skewed axes that neither meet nor run parallel: no closed form."""
+    """Skewed axes that neither meet nor run parallel: no closed form, every solution by
+    the general 6R elimination."""
     return RobotParams.from_arrays("general", [0.3, 0.2, 0.4, 0.15, 0.25, 0.1], [0.4, 1.1, -0.7, 0.9, -1.2, 0.5],
                                    [0.2, 0.15, 0.1, 0.25, 0.12, 0.18], np.zeros(6), np.zeros(6))
 
 
+def skewed_5r() -> RobotParams:
+    """Five skewed axes: neither a closed form nor a general 6R."""
+    return RobotParams.from_arrays("skewed", [0.3, 0.2, 0.4, 0.15, 0.25], [0.4, 1.1, -0.7, 0.9, -1.2],
+                                   [0.2, 0.15, 0.1, 0.25, 0.12], np.zeros(5), np.zeros(5))
+
+
 @pytest.mark.parametrize("action", ["cycle_branch", "toggle_all_branches"])
 def test_an_arm_without_a_closed_form_says_so(action: str) -> None:
-    session = ViewerSession(general_6r())
+    session = ViewerSession(skewed_5r())
     q_des = session.state.q_des().copy()
-    assert run(session, action) == "IK branches: general has no closed-form IK (general 6R)"
+    assert run(session, action) == "IK branches: skewed has no closed-form IK (general)"
     np.testing.assert_array_equal(session.state.q_des(), q_des)
     assert session.branches is None and session.scene().branches == []
-    with pytest.raises(ValueError, match=r"^IK branches: general has no closed-form IK \(general 6R\)$"):
-        build_session(SessionSpec(general_6r(), ik_branches=True))
+    with pytest.raises(ValueError, match=r"^IK branches: skewed has no closed-form IK \(general\)$"):
+        build_session(SessionSpec(skewed_5r(), ik_branches=True))
+
+
+def test_a_general_6r_cycles_and_shows_every_real_solution() -> None:
+    robot = general_6r()
+    q = np.array([0.3, -0.8, 1.1, 0.4, -0.6, 0.9])
+    session = ViewerSession(robot)
+    session.set_q(q)
+    session.toggle_target()
+    sols = rs.ik_solutions(robot, session.target_tf.mat, q)
+    assert len(sols) >= 2 and all(name.startswith("solution ") for name in sols.branch)
+    for k in [*range(len(sols)), 0]:
+        assert run(session, "cycle_branch") == f"IK branch {k + 1} of {len(sols)}: {sols.branch[k]}"
+        np.testing.assert_array_equal(session.state.q_des(), sols.q[k])
+        np.testing.assert_allclose(session.ghost.endeff_tf.mat, rs.forward_kinematics(robot, q), atol=1e-9)
+    assert run(session, "toggle_all_branches") == f"all {len(sols)} IK branches shown"
+    assert {name for _, name in session.scene().branches} == set(sols.branch)
 
 
 def test_the_picture_has_ghost_pixels_at_each_branchs_joints() -> None:
