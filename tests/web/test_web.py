@@ -85,6 +85,7 @@ def test_the_server_binds_loopback_and_hands_out_no_file_but_the_client(server, 
                  "//etc/passwd", f"/{secret}", f"/..{secret}"]:
         with pytest.raises(urllib.error.HTTPError) as caught:
             urllib.request.urlopen(base + path)
+        caught.value.close()  # its connection, which the server's stop would wait for
         assert caught.value.code == 404, path
 
 
