@@ -83,10 +83,11 @@ def open_page(browser: Any, url: str, traffic: Traffic) -> Any:
     return page
 
 
-def wait_until(condition: Callable[[], bool], timeout: float = 90.0, what: str = "condition") -> None:
+def wait_until(condition: Callable[[], bool], timeout: float = 300.0, what: str = "condition") -> None:
     """Return once ``condition()`` holds; fail after ``timeout`` seconds.  Generous: a page's
-    event can be the first to need a compiled kernel (IK, the pick task), and a first
-    compile on a loaded machine takes tens of seconds."""
+    event can be the first to need a compiled kernel (IK, collision, the pick task), which
+    on a fresh clone another process of the suite may be compiling (tests/compile_lock.py):
+    tens of seconds each on a loaded machine."""
     end = time.monotonic() + timeout
     while not condition():
         assert time.monotonic() < end, f"timed out waiting for {what}"
