@@ -24,6 +24,8 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-ne
 SHOTS = Path("/work/wt/web-shots")
 #: The page's size in the tests.
 VIEWPORT = {"width": 1200, "height": 800}
+#: Servers being stopped (Served.close), waited for when the test's browser has closed.
+STOPPING: list[threading.Thread] = []
 
 
 @dataclass
@@ -59,6 +61,8 @@ def browser(playwright_driver: Any, tmp_path: Path) -> Iterator[Any]:
         viewport=VIEWPORT)
     yield context
     context.close()
+    while STOPPING:
+        STOPPING.pop().join(timeout=10)
 
 
 def open_page(browser: Any, url: str, traffic: Traffic) -> Any:
@@ -79,7 +83,11 @@ def open_page(browser: Any, url: str, traffic: Traffic) -> Any:
     return page
 
 
-def wait_until(condition: Callable[[], bool], timeout: float = 20.0, what: str = "condition") -> None:
+def wait_until(condition: Callable[[], bool], timeout: float = 300.0, what: str = "condition") -> None:
+    """Return once ``condition()`` holds; fail after ``timeout`` seconds.  Generous: a page's
+    event can be the first to need a compiled kernel (IK, collision, the pick task), which
+    on a fresh clone another process of the suite may be compiling (tests/compile_lock.py):
+    tens of seconds each on a loaded machine."""
     end = time.monotonic() + timeout
     while not condition():
         assert time.monotonic() < end, f"timed out waiting for {what}"
@@ -101,7 +109,12 @@ class Served:
         return self.viewer.backend.session
 
     def close(self) -> None:
-        self.viewer.close()
+        """Stop the loop now and the server in the background: viser's stop waits 6 s for
+        the connections a browser still holds, and the test's browser closes only after the
+        test (the ``browser`` fixture then waits for the stop to end)."""
+        stopping = threading.Thread(target=self.viewer.close, daemon=True)
+        stopping.start()
+        STOPPING.append(stopping)
         self.thread.join(timeout=10)
 
 

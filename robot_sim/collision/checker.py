@@ -106,7 +106,8 @@ class CollisionChecker:
 
     def _configs(self, q: ArrayLike) -> tuple[FloatArray, bool]:
         Q = check_joint_vector(q, self.robot.n_dofs)
-        return np.ascontiguousarray(Q.reshape(-1, self.robot.n_dofs)), Q.ndim == 1
+        # C-contiguous and writeable (numba compiles the kernels again for read-only arrays)
+        return np.require(Q.reshape(-1, self.robot.n_dofs), float, "CW"), Q.ndim == 1
 
     # ------------------------------------------------------------------ queries
     def in_collision(self, q: ArrayLike) -> bool | NDArray[np.bool_]:
@@ -169,7 +170,7 @@ class CollisionChecker:
         P = pairs.shape[0]
         d, pts, nrm = np.empty(P), np.zeros((P, 2, 3)), np.zeros((P, 3))
         recs = np.empty_like(self._scene.recs0)
-        batch.pair_results(np.ascontiguousarray(q), *self._scene.args(), np.ascontiguousarray(pairs),
+        batch.pair_results(np.require(q, float, "CW"), *self._scene.args(), np.ascontiguousarray(pairs),
                            self._scene.verts, threshold, d, pts, nrm, recs)
         return d, pts, nrm
 

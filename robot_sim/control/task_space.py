@@ -259,13 +259,15 @@ class OperationalSpace(TaskSpaceController):
         self._step_kernel: tuple | None = None
 
     def _step_parts(self) -> tuple:
-        """(osc_step, model table, frame-0 gravity, modified, base, tool, rows), made on
-        first use."""
+        """(osc_step, model table, frame-0 gravity, modified, base, tool, rows, q_min,
+        q_max), made on first use; the limits writeable (numba compiles a kernel again for
+        read-only arrays)."""
         if self._step_kernel is None:
             from robot_sim.control import task_space_compiled as tc
 
             _, table, g0 = dynamics.compiled_kernels(self.robot)
-            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[2:])
+            limits = (np.require(self.robot.q_min, float, "CW"), np.require(self.robot.q_max, float, "CW"))
+            self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[2:], *limits)
         return self._step_kernel
 
     def integrate(self, q: FloatArray, qd: FloatArray, step: StepContext) -> Integrated | None:
@@ -279,7 +281,7 @@ class OperationalSpace(TaskSpaceController):
         n = self.robot.n_dofs
         if step.on_stop or dynamics.backend() != "compiled" or q.shape != (n,) or qd.shape != (n,):
             return None
-        kernel, table, g0, modified, base, tool, rows = self._step_parts()
+        kernel, table, g0, modified, base, tool, rows, q_min, q_max = self._step_parts()
         t, h, desired_at, limit = step.t, step.h, step.desired_at, step.limit
         desired = (desired_at(t), desired_at(t + 0.5 * h), desired_at(t + h))
         fixed = desired[1] is desired[0] and desired[2] is desired[0]
@@ -293,10 +295,10 @@ class OperationalSpace(TaskSpaceController):
             self._packed = (desired[0], packed) if fixed else None
         q1, qd1, a1, tau, e = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(rows.shape[0])
         if self._limit is None or self._limit[0] is not limit:
-            self._limit = (limit, np.ascontiguousarray(limit, dtype=float), bool(np.isfinite(limit).any()))
+            self._limit = (limit, np.require(limit, float, "CW"), bool(np.isfinite(limit).any()))
         result = kernel(table, g0, self._limit[1], self._limit[2], modified, base, tool, rows, self.weights,
                         step.integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
-                        self.eps_inertia, self.robot.q_min, self.robot.q_max, q1, qd1, a1, tau, e)
+                        self.eps_inertia, q_min, q_max, q1, qd1, a1, tau, e)
         if result not in (0, 3):
             return None
         self.error, self._qdd = e, a1

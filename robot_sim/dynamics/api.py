@@ -227,9 +227,11 @@ def _arguments(robot: RobotParams, q: ArrayLike, finite: bool = True, **rates: A
     the arguments are checked again with the test, which raises naming the culprit)."""
     q_arr = _joint_array(robot, q, "q", finite=finite)
     arrays = [q_arr] + [_joint_array(robot, value, name, q_arr, finite) for name, value in rates.items()]
+    # C-contiguous and writeable, whatever was given (a robot's read-only q_home, a strided
+    # column): numba compiles a kernel again for each other layout or flag
     if q_arr.ndim == 1:
-        return True, [a.reshape(1, -1) for a in arrays]
-    return False, [np.ascontiguousarray(a) for a in arrays]
+        return True, [np.require(a.reshape(1, -1), float, "CW") for a in arrays]
+    return False, [np.require(a, float, "CW") for a in arrays]
 
 
 # ------------------------------------------------------------------ public API
