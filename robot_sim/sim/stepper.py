@@ -1,6 +1,6 @@
 """The stepper of the physics loop: fixed steps of N arms of one robot with their joint
 efforts held over each step, by classical RK4 or semi-implicit Euler, in one compiled
-call (``dynamics.compiled.step_batch``) or by the reference backend's batched forward
+call (:func:`robot_sim.sim.step_kernels.step_batch`) or by the reference backend's batched forward
 dynamics (``dynamics.set_backend("reference")``).  Joints resting on their stops are held
 inside the step; what the stepper does not resolve (an impact, a release, an arrival) it
 hands back by status to the stop resolver (:mod:`robot_sim.sim.stops`).
@@ -125,7 +125,10 @@ class Stepper:
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
         self.robot, self.dt, self.method = robot, float(dt), method
         self.shape = (int(n_arms), robot.n_dofs)
-        self._kernels, self._table, g0 = dynamics.compiled_kernels(robot, gravity)
+        from robot_sim.sim import step_kernels  # numba, on first use
+
+        self._kernels = step_kernels
+        _, self._table, g0 = dynamics.compiled_kernels(robot, gravity)
         self._g0 = g0.copy()
         #: Gravity in frame 0 (3,) [m/s²], as the compiled kernels take it.
         self.gravity = self._g0
@@ -252,22 +255,32 @@ class Stepper:
         n_steps: int,
         *,
         stops: bool = False,
+        limits: tuple[NDArray[np.bool_], FloatArray] | None = None,
+        contact: tuple | None = None,
     ) -> tuple[int, tuple[FloatArray, ...]]:
         """Up to ``n_steps`` steps of one arm (a one-arm stepper, compiled backend) from
         (q, q̇) (n,) under the sampled ``law`` (``Controller.sampled_law``: "passive", "pd",
         "pdg", "ct" with its gains kp, kd) toward the fixed ``desired`` (q, q̇, q̈) (n,),
-        in one compiled call (``dynamics.compiled.run_steps``): per step the command, its
-        clip to ±``effort_limit``, :meth:`step` (``stops`` as there) and q̇ clipped to
-        ±``velocity_limit`` (n,).  Returns the number of steps taken (it stops before a
-        step that is not finite or touches a stop) and the state after the last one:
-        (q, q̇, q̈ at its start, command, effort [N·m or N], joints saturated, joints braked)."""
+        in one compiled call (:func:`robot_sim.sim.step_kernels.run_steps`): per step the
+        command, its clip to ±``effort_limit``, :meth:`step` (``stops`` as there: joints
+        resting on their stops held) and q̇ clipped to ±``velocity_limit`` (n,).
+        ``limits``: the joints on a limit (n,) bool and the stops' reaction (n,) [N·m or N]
+        before the first step (default none on a limit, no reaction).  ``contact``: the
+        contact tuple of a ``ContactModel`` (``ContactModel.compiled``), whose pairs then
+        act at every stage.  Returns the number of steps taken (it stops before a step the
+        physics loop resolves its own way: not finite, a stop met, the pairs near contact
+        changed) and the state after the last one: (q, q̇, q̈ at its start, command, effort
+        [N·m or N], joints saturated, joints braked, joints on a limit, stops' reaction)."""
         n = self.shape[1]
         q, qd = q.copy(), qd.copy()
-        out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool))
+        at_limit, reaction = (np.zeros(n, dtype=bool), np.zeros(n)) if limits is None else (l.copy() for l in limits)
+        out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool),
+               at_limit, reaction)
         q_des, qd_des, qdd_des = (np.ascontiguousarray(x, dtype=float) for x in desired)
         taken = self._kernels.run_steps(
-            self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()), np.ascontiguousarray(kp, dtype=float),
-            np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des, effort_limit, velocity_limit, self._g0, stops, *out,
+            self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()),
+            np.ascontiguousarray(kp, dtype=float), np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des,
+            effort_limit, velocity_limit, self._g0, stops, *out, contact,
         )
         return taken, out
 

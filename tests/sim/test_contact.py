@@ -15,6 +15,7 @@ from contact_helpers import MASS, RADIUS, planar_carriage, vertical_slider
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim import dynamics
 from robot_sim.collision import Box, CollisionChecker, Sphere, World
+from robot_sim.control.controllers import PD, Passive, control_gains
 from robot_sim.sim.contact import MIN_MARGIN, OMEGA_DT, ContactModel
 from robot_sim.sim.simulation import Simulation
 from robot_sim.sim.stepper import runge_kutta
@@ -205,6 +206,47 @@ def test_the_compiled_contact_step_is_the_stage_by_stage_step(integrator):
     assert np.abs(contact.torque(q, qd)).max() > 1.0  # the step is in contact
     for a, b in zip(got, expected):
         assert np.array_equal(a, b)
+
+
+def _step_by_step(kind: type) -> type:
+    """``kind`` with the same torque, evaluated by the loop one step at a time (no compiled
+    multi-step call)."""
+    return type(f"StepByStep{kind.__name__}", (kind,), {"sampled_law": lambda self: None})
+
+
+@pytest.mark.parametrize("kind, friction", [(Passive, 0.5), (Passive, 0.0), (PD, 0.5)])
+def test_the_compiled_multi_step_call_in_contact_equals_the_loop_step_by_step(kind, friction, monkeypatch):
+    """The UR5 falling onto the box, landing, bouncing and coming to rest on it (PD: driven
+    toward a pose below the box's top, pressed onto it): ``step(n)`` running the contact
+    inside one compiled call gives the bits of the loop stepping once at a time (the
+    contact torque at every stage, the friction anchors moved at every step's start),
+    and the compiled call takes the steps whose pairs near contact do not change."""
+    rob, world = ur5_over_box()
+    runs, loop_steps = [], []
+    for cls in (kind, _step_by_step(kind)):
+        controller = cls(rob) if kind is Passive else cls(rob, control_gains(rob, bandwidth=1.0))
+        sim = Simulation(rob, controller=controller, checker=CollisionChecker(rob, world), friction=friction)
+        sim.state.set_q_des(rob.q_home + [0.0, 0.5, 0.0, 0.0, 0.0, 0.0])  # PD: the shoulder turned into the box
+        called = [0]
+        one_step = Simulation._step
+
+        def counted(self, desired_at, called=called, one_step=one_step):
+            called[0] += 1
+            return one_step(self, desired_at)
+
+        monkeypatch.setattr(Simulation, "_step", counted)
+        rows = []
+        for _ in range(16):
+            assert sim.step(50) == 50
+            forces = sim.contact_forces
+            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, [sim.time, sim.steps, len(forces)],
+                                        *(np.concatenate([f.point, f.normal, f.force, [f.depth]]) for f in forces)]))
+        runs.append(rows)
+        loop_steps.append(called[0])
+    for compiled, stepwise in zip(*runs):
+        np.testing.assert_array_equal(compiled, stepwise)
+    assert runs[0][-1][2 * rob.n_dofs + 2 * rob.n_dofs + 2] > 0  # it ends touching the box
+    assert loop_steps[1] == 800 and loop_steps[0] < 200  # most steps in the compiled call
 
 
 @pytest.mark.parametrize("friction", [0.0, 0.5])
