@@ -29,7 +29,8 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.collision.batch import _gap, _pose
-from robot_sim.collision.narrow import core_ends, pair_distance
+from robot_sim.collision.closest import dot, point_box
+from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
 from robot_sim.kernels.jit import INLINE, JIT, njit
 
 # Columns of ``gains`` (A, 4) per active pair.
@@ -260,11 +261,29 @@ def margin(arms, qd, dt):
     return max(MIN_MARGIN, 2.0 * dt * speed)
 
 
+@njit(**INLINE)
+def _lower_bound(kinds, recs, wc, br, i, j):
+    """A lower bound [m] of the distance of scene rows i and j: from the bounding sphere of
+    i to the box or half-space j itself (exact for the sphere), else from bounding sphere
+    to bounding sphere."""
+    kind = kinds[j]
+    if kind == L.HALFSPACE:
+        rec = recs[j]
+        normal = axis_z(rec)
+        return dot(normal, (wc[i, 0], wc[i, 1], wc[i, 2])) - dot(normal, (rec[L.POS], rec[L.POS + 1], rec[L.POS + 2])) - br[i]
+    if kind == L.BOX:
+        rec = recs[j]
+        centre = to_local(rec, (wc[i, 0], wc[i, 1], wc[i, 2]))
+        return point_box(centre, (rec[L.HALF_X], rec[L.HALF_Y], rec[L.HALF_Z]))[0] - br[i]
+    return _gap(wc, br, i, j)
+
+
 @njit(**JIT)
 def same_pairs(q, dh, modified, C, threshold, work):
     """True when the checked pairs of the contact tuple ``C`` closer than ``threshold``
-    [m] at q (a pair's bounding spheres first: the broad phase; then its narrow-phase
-    distance) are exactly its active ``rows``; stops at the first pair that differs."""
+    [m] at q (the broad phase first: a pair whose :func:`_lower_bound` is that far is
+    not; then the narrow-phase distance) are exactly its active ``rows``; stops at the
+    first pair that differs."""
     world0, link, local, _, kinds, bc, br, verts = C[:8]
     pairs, rows = C[11], C[13]
     F, recs, wc = work[0], work[1], work[2]
@@ -272,7 +291,7 @@ def same_pairs(q, dh, modified, C, threshold, work):
     k = 0
     for p in range(pairs.shape[0]):
         i, j = pairs[p, 0], pairs[p, 1]
-        if _gap(wc, br, i, j) >= threshold:
+        if _lower_bound(kinds, recs, wc, br, i, j) >= threshold:
             continue
         if not pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, threshold)[0] < threshold:
             continue
