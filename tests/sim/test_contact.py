@@ -214,15 +214,22 @@ def _step_by_step(kind: type) -> type:
     return type(f"StepByStep{kind.__name__}", (kind,), {"sampled_law": lambda self: None})
 
 
-@pytest.mark.parametrize("kind, friction", [(Passive, 0.5), (Passive, 0.0), (PD, 0.5)])
-def test_the_compiled_multi_step_call_in_contact_equals_the_loop_step_by_step(kind, friction, monkeypatch):
+@pytest.mark.parametrize("kind, friction, stops", [(Passive, 0.5, False), (Passive, 0.0, False), (PD, 0.5, False),
+                                                   (Passive, 0.5, True)])
+def test_the_compiled_multi_step_call_in_contact_equals_the_loop_step_by_step(kind, friction, stops, monkeypatch):
     """The UR5 falling onto the box, landing, bouncing and coming to rest on it (PD: driven
-    toward a pose below the box's top, pressed onto it): ``step(n)`` running the contact
-    inside one compiled call gives the bits of the loop stepping once at a time (the
-    contact torque at every stage, the friction anchors moved at every step's start),
-    and the compiled call takes the steps whose pairs near contact do not change."""
+    toward a pose below the box's top, pressed onto it; ``stops``: its elbow's range cut
+    to ±0.05 rad about home, so the elbow meets its stops while the arm touches the box):
+    ``step(n)`` running the contact inside one compiled call gives the bits of the loop
+    stepping once at a time (the contact torque at every stage, the friction anchors
+    moved at every step's start, the stops met in contact handed back to the loop), and
+    the compiled call takes the steps whose pairs near contact do not change."""
     rob, world = ur5_over_box()
-    runs, loop_steps = [], []
+    if stops:
+        q_min, q_max = rob.q_min.copy(), rob.q_max.copy()
+        q_min[2], q_max[2] = rob.q_home[2] - 0.05, rob.q_home[2] + 0.05
+        rob = dataclasses.replace(rob, q_min=q_min, q_max=q_max)
+    runs, loop_steps, events = [], [], []
     for cls in (kind, _step_by_step(kind)):
         controller = cls(rob) if kind is Passive else cls(rob, control_gains(rob, bandwidth=1.0))
         sim = Simulation(rob, controller=controller, checker=CollisionChecker(rob, world), friction=friction)
@@ -239,14 +246,19 @@ def test_the_compiled_multi_step_call_in_contact_equals_the_loop_step_by_step(ki
         for _ in range(16):
             assert sim.step(50) == 50
             forces = sim.contact_forces
-            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, [sim.time, sim.steps, len(forces)],
+            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, sim.at_limit, sim.limit_torque,
+                                        [sim.time, sim.steps, len(forces)],
                                         *(np.concatenate([f.point, f.normal, f.force, [f.depth]]) for f in forces)]))
         runs.append(rows)
         loop_steps.append(called[0])
+        events.append(sim.take_events())
     for compiled, stepwise in zip(*runs):
         np.testing.assert_array_equal(compiled, stepwise)
-    assert runs[0][-1][2 * rob.n_dofs + 2 * rob.n_dofs + 2] > 0  # it ends touching the box
-    assert loop_steps[1] == 800 and loop_steps[0] < 200  # most steps in the compiled call
+    assert events[0] == events[1]
+    assert not stops or any(event.joint == 2 for event in events[0])  # the elbow met its stops
+    assert runs[0][-1][6 * rob.n_dofs + 2] > 0  # it ends touching the box
+    # most steps in the compiled call (a step in contact holding a joint on its stop is the loop's)
+    assert loop_steps[1] == 800 and loop_steps[0] < (800 if stops else 200)
 
 
 @pytest.mark.parametrize("friction", [0.0, 0.5])
