@@ -228,15 +228,21 @@ def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
                            False, tau, out)
             if kinds[i] == L.CAPSULE:
                 ends = core_ends(kinds[i], recs[i])
+                # the end farther from the closest point first: when it does not touch, the
+                # shallower end does not either, and the other need not be computed
+                far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
                 end[:] = recs[i]
                 for c in range(3):
-                    end[L.POS + c] = ends[0][c]
-                first = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                for c in range(3):
-                    end[L.POS + c] = ends[1][c]
-                second = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                e = 0 if first[0] >= second[0] else 1  # the shallower end
-                de, ae, be, ne = first if e == 0 else second
+                    end[L.POS + c] = ends[far][c]
+                result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
+                if de < 0.0:
+                    for c in range(3):
+                        end[L.POS + c] = ends[1 - far][c]
+                    other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    first, second = (result, other) if far == 0 else (other, result)
+                    e = 0 if first[0] >= second[0] else 1  # the shallower end
+                    de, ae, be, ne = first if e == 0 else second
                 if de < 0.0:
                     _record(out[p, 1 + e], de, ae, ne)
                     if moving:
@@ -299,6 +305,12 @@ def same_pairs(q, dh, modified, C, threshold, work):
             return False
         k += 1
     return k == rows.shape[0]
+
+
+@njit(**INLINE)
+def _distance2(x, y):
+    """Squared distance of two 3-vectors."""
+    return (x[0] - y[0]) ** 2 + (x[1] - y[1]) ** 2 + (x[2] - y[2]) ** 2
 
 
 @njit(**INLINE)

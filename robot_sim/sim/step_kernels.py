@@ -58,19 +58,16 @@ def step_work(n):
 
 @njit(**INLINE)
 def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, work, contact, cwork, update, posed):
-    """q̈ at (q, v) into ``acc`` under the effort tau, plus, with a contact tuple, the
-    contact torque of its active pairs at (q, v) (with the step's gains and anchors;
-    ``update``, ``posed`` as ``contact_torque`` takes them); the ``held`` joints locked
-    when ``any_held`` (their reaction into ``react``)."""
-    O, CS, F, NM, zero, bias, M, fext = work[0], work[1], work[2], work[3], work[4], work[5], work[6], work[7]
-    if contact is None:
-        fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
-    else:
-        total, extra = work[15], work[16]
-        contact_torque(q, v, P, modified, contact, update, posed, extra, cwork)
-        for j in range(tau.shape[0]):
-            total[j] = tau[j] + extra[j]
-        fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
+    """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque of the active
+    pairs of the contact tuple at (q, v) (with the step's gains and anchors; ``update``,
+    ``posed`` as ``contact_torque`` takes them); the ``held`` joints locked when
+    ``any_held`` (their reaction into ``react``)."""
+    O, CS, F, NM, zero, bias, M, fext, total, extra = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
+                                                       work[7], work[15], work[16])
+    contact_torque(q, v, P, modified, contact, update, posed, extra, cwork)
+    for j in range(tau.shape[0]):
+        total[j] = tau[j] + extra[j]
+    fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
 
 
 @njit(**INLINE)
@@ -81,7 +78,7 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
     on a stop; ``held`` (n,) the joints named held when ``use_held`` (overwritten with
     ``stops``); ``work``: :func:`step_work`.  ``contact``: None, or a contact tuple whose
     active pairs' torque enters every stage (``cwork`` its ``contact_work``)."""
-    a1, a2, a3, a4, qs, vs, react = work[8], work[9], work[10], work[11], work[12], work[13], work[14]
+    O, CS, F, NM, zero, bias, M, fext, a1, a2, a3, a4, qs, vs, react = work[:15]
     n = P.shape[0]
     any_held, on_stop = False, False
     if stops:
@@ -97,33 +94,38 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
     elif use_held:
         for j in range(n):
             any_held = any_held or held[j]
-    if use_start and not (any_held or on_stop) and all_finite(a_start):
-        a1[:] = a_start
-    else:
-        _accel(P, modified, q, v, tau, g0, held, any_held, a1, react, work, contact, cwork, False, False)
-        if not all_finite(a1):
-            return BAD_ACCEL
-    if any_held:
-        for j in range(n):
-            if stops and held[j] and (react[j] < 0.0 if q[j] == P[j, QLO] else react[j] > 0.0):
-                return AT_STOP  # this stop would pull: the joint may leave
-            reaction[j] = react[j] if held[j] else 0.0
-    elif stops or use_held:
-        reaction[:] = 0.0
-    qdd1[:] = a1
-    if not rk4:
-        euler_combine(h, q, v, a1, q1, qd1)
-    else:
-        for stage in range(3):  # stages 2, 3, 4 of RK4
-            prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
-            out = a2 if stage == 0 else (a3 if stage == 1 else a4)
-            rk4_stage(h if stage == 2 else 0.5 * h, q, v, prev, v if stage == 0 else vs, qs, vs)
+    known = use_start and not (any_held or on_stop) and all_finite(a_start)
+    for stage in range(4 if rk4 else 1):  # the start, then stages 2, 3, 4 of RK4
+        out = a1 if stage == 0 else (a2 if stage == 1 else (a3 if stage == 2 else a4))
+        if stage > 0:
+            prev = a1 if stage == 1 else (a2 if stage == 2 else a3)
+            rk4_stage(h if stage == 3 else 0.5 * h, q, v, prev, v if stage == 1 else vs, qs, vs)
             if not (all_finite(qs) and all_finite(vs)):
                 return BAD_STATE
-            _accel(P, modified, qs, vs, tau, g0, held, any_held, out, react, work, contact, cwork, False, False)
+        if stage == 0 and known:
+            a1[:] = a_start
+        else:
+            at_q, at_v = (q, v) if stage == 0 else (qs, vs)
+            if contact is None:
+                fd_one(P, modified, at_q, at_v, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F,
+                       NM)
+            else:
+                _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, work, contact, cwork, False, False)
             if not all_finite(out):
                 return BAD_ACCEL
+        if stage == 0:
+            if any_held:
+                for j in range(n):
+                    if stops and held[j] and (react[j] < 0.0 if q[j] == P[j, QLO] else react[j] > 0.0):
+                        return AT_STOP  # this stop would pull: the joint may leave
+                    reaction[j] = react[j] if held[j] else 0.0
+            elif stops or use_held:
+                reaction[:] = 0.0
+            qdd1[:] = a1
+    if rk4:
         rk4_combine(h, q, v, a1, a2, a3, a4, q1, qd1)
+    else:
+        euler_combine(h, q, v, a1, q1, qd1)
     status = OK
     if stops:
         for j in range(n):
@@ -267,7 +269,6 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
     zero = np.zeros(n)
     a_ref, g, c, t, a_start = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     q1, qd1, qdd1, react, at = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n, dtype=np.bool_)
-    braked = np.zeros(n, dtype=np.bool_)
     any_at = False
     for j in range(n):
         any_at = any_at or at_limit[j]
@@ -307,7 +308,7 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
         if ok:
             for j in range(n):
                 v = qd1[j]
-                braked[j] = abs(v) > vlim[j]
+                vsat[j] = abs(v) > vlim[j]
                 qd1[j] = min(max(v, -vlim[j]), vlim[j])
             ok = squares_finite(q1) and squares_finite(qd1)
         if not ok:
@@ -318,7 +319,6 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
             return k
         for j in range(n):
             q[j], qd[j], qdd[j], cmd[j], tau[j], sat[j] = q1[j], qd1[j], qdd1[j], c[j], t[j], abs(c[j]) > elim[j]
-            vsat[j] = braked[j]
         if stops and not in_contact and (any_at or status == ON_LIMIT):
             for j in range(n):
                 limit_torque[j] = react[j] if any_at else 0.0
