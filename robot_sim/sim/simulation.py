@@ -378,16 +378,19 @@ class Simulation:
         joints resting on their stops and the contact of unchanged pairs inside); the
         number taken, whose record it writes as :meth:`_finish` does."""
         contact = None if self.contact is None else self.contact.compiled()
-        taken, (q, qd, qdd, command, effort, saturated, braked, at_limit, reaction) = self._stepper_of().run_law(
+        taken, (q, qd, qdd, command, effort, saturated, braked), stops = self._stepper_of().run_law(
             *law, desired, self.effort_limit, self.velocity_limit, self.q, self.qd, n_steps, stops=self._limit_position,
-            limits=(self.at_limit, self.limit_torque), contact=contact,
+            on_limit=self._any_at_limit, contact=contact,
         )
         if taken:
             self.q, self.qd, self.qdd = q, qd, qdd
             self.effort_command, self.effort = command, effort
             self.saturated, self.velocity_limited = saturated, braked
-            self.at_limit, self._any_at_limit, self.limit_torque = at_limit, bool(at_limit.any()), reaction
-            self._touching = contact is not None and self.contact.active
+            if stops is not None:
+                self.at_limit, self.limit_torque = stops
+                self._any_at_limit = bool(self.at_limit.any())
+            if contact is not None:
+                self._touching = self.contact.active
             for _ in range(taken):  # the clock as the step-by-step loop advances it
                 self.time += self.dt
             self.steps += taken

@@ -235,7 +235,7 @@ def _command(P, modified, law, kp, kd, q_des, qd_des, qdd_des, g0, q, qd, c, a_r
 
 @njit(**JIT)
 def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vlim, g0, stops, q, qd, qdd, cmd, tau,
-              sat, vsat, at_limit, limit_torque, contact):
+              sat, vsat, any_at, at_limit, limit_torque, recorded, contact):
     """Up to ``n_steps`` steps of one arm under a sampled joint law with the desired values
     q_des, qd_des, qdd_des (n,) fixed: per step the command ``cmd`` (LAW_PASSIVE: 0;
     LAW_PD: kp (q_des − q) + kd (q̇_des − q̇), kp and kd (n,); LAW_PDG: that plus g(q);
@@ -247,9 +247,10 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
     hold the last step's.
 
     With ``stops``, joints resting on their stops are held inside the step as the loop's
-    stepper holds them: ``at_limit`` (n,) bool, the joints on a limit, and
-    ``limit_torque`` (n,), the stops' reaction [N·m or N], are read and written as the
-    loop records a step that held joints or ended exactly on a limit.
+    stepper holds them: ``any_at`` says whether some joint is on a limit before the first
+    step; a step that held joints or ended exactly on a limit is recorded as the loop
+    records it, into ``at_limit`` (n,) bool, the joints on a limit, and ``limit_torque``
+    (n,), the stops' reaction [N·m or N], and ``recorded[0]`` is set True.
 
     ``contact``: None, or a contact tuple (:mod:`.contact_kernels`; its ``arms`` valid at
     every q) with the active pairs of the step before: at each step's start the pairs
@@ -270,9 +271,6 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
     zero = np.zeros(n)
     a_ref, g, c, t, a_start = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n)
     q1, qd1, qdd1, react, at = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n, dtype=np.bool_)
-    any_at = False
-    for j in range(n):
-        any_at = any_at or at_limit[j]
     if contact is not None:
         cwork = contact_work(P, contact)
         arms, rows, mu, anchors, anchored = contact[12], contact[13], contact[15], contact[16], contact[17]
@@ -324,6 +322,7 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
             for j in range(n):
                 limit_torque[j] = react[j] if any_at else 0.0
                 at_limit[j] = at[j]
+            recorded[0] = True
             any_at = False
             for j in range(n):
                 any_at = any_at or at[j]

@@ -141,6 +141,7 @@ class Stepper:
         self._all = np.ones(self.shape[0], dtype=bool)
         self._none = np.zeros(self.shape[0], dtype=bool)
         self._no_held = np.zeros(self.shape, dtype=bool)
+        self._limits = (np.zeros(self.shape[1], dtype=bool), np.zeros(self.shape[1]), np.zeros(1, dtype=bool))
 
     def step(
         self,
@@ -255,34 +256,35 @@ class Stepper:
         n_steps: int,
         *,
         stops: bool = False,
-        limits: tuple[NDArray[np.bool_], FloatArray] | None = None,
+        on_limit: bool = False,
         contact: tuple | None = None,
-    ) -> tuple[int, tuple[FloatArray, ...]]:
+    ) -> tuple[int, tuple[FloatArray, ...], tuple[NDArray[np.bool_], FloatArray] | None]:
         """Up to ``n_steps`` steps of one arm (a one-arm stepper, compiled backend) from
         (q, q̇) (n,) under the sampled ``law`` (``Controller.sampled_law``: "passive", "pd",
         "pdg", "ct" with its gains kp, kd) toward the fixed ``desired`` (q, q̇, q̈) (n,),
         in one compiled call (:func:`robot_sim.sim.step_kernels.run_steps`): per step the
         command, its clip to ±``effort_limit``, :meth:`step` (``stops`` as there: joints
         resting on their stops held) and q̇ clipped to ±``velocity_limit`` (n,).
-        ``limits``: the joints on a limit (n,) bool and the stops' reaction (n,) [N·m or N]
-        before the first step (default none on a limit, no reaction).  ``contact``: the
+        ``on_limit``: some joint is on a limit before the first step.  ``contact``: the
         contact tuple of a ``ContactModel`` (``ContactModel.compiled``), whose pairs then
         act at every stage.  Returns the number of steps taken (it stops before a step the
         physics loop resolves its own way: not finite, a stop met, the pairs near contact
-        changed) and the state after the last one: (q, q̇, q̈ at its start, command, effort
-        [N·m or N], joints saturated, joints braked, joints on a limit, stops' reaction)."""
+        changed), the state after the last one: (q, q̇, q̈ at its start, command, effort
+        [N·m or N], joints saturated, joints braked), and the stops' record of the last
+        step that held joints or ended on a limit (joints on a limit (n,) bool, the stops'
+        reaction (n,) [N·m or N]; new arrays), or None when no step did."""
         n = self.shape[1]
         q, qd = q.copy(), qd.copy()
-        at_limit, reaction = (np.zeros(n, dtype=bool), np.zeros(n)) if limits is None else (l.copy() for l in limits)
-        out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool),
-               at_limit, reaction)
+        out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool))
+        at_limit, reaction, recorded = self._limits
+        recorded[0] = False
         q_des, qd_des, qdd_des = (np.ascontiguousarray(x, dtype=float) for x in desired)
         taken = self._kernels.run_steps(
             self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()),
             np.ascontiguousarray(kp, dtype=float), np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des,
-            effort_limit, velocity_limit, self._g0, stops, *out, contact,
+            effort_limit, velocity_limit, self._g0, stops, *out, on_limit, at_limit, reaction, recorded, contact,
         )
-        return taken, out
+        return taken, out, ((at_limit.copy(), reaction.copy()) if recorded[0] else None)
 
     def _check_shapes(self, **arrays: FloatArray) -> None:
         """ValueError naming the first array whose shape is not (N, n)."""
