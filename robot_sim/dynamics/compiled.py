@@ -1,5 +1,6 @@
 """Compiled (numba) kernels of the rigid-body dynamics: RNEA, CRBA, forward dynamics by a
-Cholesky solve, and one fused RK4 / semi-implicit Euler step.
+Cholesky solve (with joints locked on request), computed torque.  The physics loop's
+step over these is :mod:`robot_sim.sim.step_kernels`.
 
 The same algorithms as the readable recursion in ``dynamics`` (which stays the reference
 the tests compare against), written as scalar code over one configuration and compiled
@@ -15,8 +16,7 @@ Gravity ``g0`` (3,) [m/s²] is given in frame 0; an external wrench ``fext`` (6,
 on the last link acts about its frame origin, in its frame.  Units are SI throughout.
 
 This module imports nothing of the project but the kernels layer (:mod:`robot_sim.kernels`:
-the model's columns, numba's settings, sin/cos, the cross product, the Cholesky solve and
-the RK4 stages).
+the model's columns, numba's settings, sin/cos, the cross product and the Cholesky solve).
 """
 from __future__ import annotations
 
@@ -25,13 +25,12 @@ import math
 import numpy as np
 from numba import njit
 
-from robot_sim.kernels.algebra import cholesky_solve, cos_sin, cross, euler_combine, rk4_combine, rk4_stage
+from robot_sim.kernels.algebra import cholesky_solve, cos_sin, cross
 from robot_sim.kernels.jit import INLINE, JIT
 from robot_sim.kernels.model import (
-    CA, CNEG, CPOS, HX, HY, HZ, IXX, IXY, IXZ, IYY, IYZ, IZZ, MASS, MOD, QHI, QLO, REFL, REV, SA, SVX, SVY, SVZ,
+    CA, CNEG, CPOS, HX, HY, HZ, IXX, IXY, IXZ, IYY, IYZ, IZZ, MASS, MOD, REFL, REV, SA, SVX, SVY, SVZ,
     SWX, SWY, SWZ, TH, VISC, A, D,
 )
-from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
 
 _NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
@@ -108,7 +107,7 @@ def _rot_sym_x(xx, yy, zz, xy, yz, xz, c, s):
 
 
 @njit(**JIT)
-def _geometry(P, modified, q, O, CS):
+def geometry(P, modified, q, O, CS):
     """Offsets O[j] (origin j from origin j−1: in frame j for standard DH, in frame j−1
     for modified) and cos/sin of θ_j into CS[j]."""
     for j in range(P.shape[0]):
@@ -141,7 +140,7 @@ def _wrench_to_parent(modified, fx, fy, fz, nx, ny, nz, c, s, ca, sa, px, py, pz
 @njit(**JIT)
 def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
     """τ (n,) into ``tau``: rigid bodies by Newton–Euler plus the drive terms
-    G²Jm q̈ + G²B q̇ + |G|Tc±.  O, CS: :func:`_geometry` of q; work arrays F, NM (n, 3)."""
+    G²Jm q̈ + G²B q̇ + |G|Tc±.  O, CS: :func:`geometry` of q; work arrays F, NM (n, 3)."""
     n = P.shape[0]
     wx = wy = wz = 0.0
     dx = dy = dz = 0.0
@@ -219,7 +218,7 @@ def rnea_one(P, modified, qd, qdd, g0, fext, use_ext, tau, O, CS, F, NM):
 @njit(**JIT)
 def crba_one(P, modified, M, O, CS):
     """M(q) (n, n) into ``M``: composite rigid bodies plus G²Jm on the diagonal (O, CS:
-    :func:`_geometry` of q)."""
+    :func:`geometry` of q)."""
     n = P.shape[0]
     cm = 0.0
     chx = chy = chz = 0.0
@@ -275,7 +274,7 @@ def fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, reac
     their right-hand side by 0, so q̈_j = 0 exactly, and their reaction
     λ_j = (M q̈ − (τ − C q̇ − g − τ_f + ext))_j goes into ``react`` (0.0 elsewhere; ``react``
     is not touched without ``use_held``)."""
-    _geometry(P, modified, q, O, CS)
+    geometry(P, modified, q, O, CS)
     rnea_one(P, modified, qd, zero, g0, fext, use_ext, bias, O, CS, F, NM)
     n = P.shape[0]
     for j in range(n):
@@ -316,42 +315,19 @@ def all_finite(x):
 
 
 @njit(**INLINE)
-def squares_finite(x):
-    """True if the sum of squares of the vector x is finite (as the physics loop's check:
-    a vector whose squares overflow is as diverged as one holding inf)."""
-    squares = 0.0
-    for v in x:
-        squares += v * v
-    return math.isfinite(squares)
-
-
-@njit(**INLINE)
-def clip_effort(command, limit, effort):
-    """``effort`` = ``command`` clipped to ±``limit`` (NumPy's clip for finite values);
-    True if some joint was clipped."""
-    saturated = False
-    for j in range(command.shape[0]):
-        x = command[j]
-        if abs(x) > limit[j]:
-            saturated = True
-        effort[j] = min(max(x, -limit[j]), limit[j])
-    return saturated
-
-
-@njit(**INLINE)
-def _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
+def ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM):
     """Computed torque: q̈_ref = q̈_des + kp (q_des − q) + kd (q̇_des − q̇) into ``qdd_ref``
     (the operations and their order of NumPy's ``qdd_des + kp * (q_des - q) + kd * (qd_des - qd)``)
     and τ = ID(q, q̇, q̈_ref) into ``tau``."""
     for j in range(P.shape[0]):
         qdd_ref[j] = (qdd_des[j] + kp * (q_des[j] - q[j])) + kd * (qd_des[j] - qd[j])
-    _geometry(P, modified, q, O, CS)
+    geometry(P, modified, q, O, CS)
     rnea_one(P, modified, qd, qdd_ref, g0, O[0], False, tau, O, CS, F, NM)
 
 
 @njit("b1(f8[:, ::1], f8[::1], f8[::1], f8[::1], f8[::1], f8[::1], f8, f8, f8[::1], f8[::1], f8[::1])", **JIT)
 def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
-    """:func:`_ct_one` for one configuration; False (nothing computed) unless every vector
+    """:func:`ct_one` for one configuration; False (nothing computed) unless every vector
     has n entries (g0 3) and the state and reference are finite."""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
@@ -361,7 +337,7 @@ def ct_vec(P, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref):
     if g0.shape[0] != 3 or not (all_finite(q) and all_finite(qd) and all_finite(q_des) and all_finite(qd_des) and all_finite(qdd_des)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
-    _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM)
+    ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp, kd, g0, tau, qdd_ref, O, CS, F, NM)
     return True
 
 
@@ -388,7 +364,7 @@ def rnea_vec(P, q, qd, qdd, g0, tau):
     if not (all_finite(q) and all_finite(qd) and all_finite(qdd)):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
-    _geometry(P, modified, q, O, CS)
+    geometry(P, modified, q, O, CS)
     rnea_one(P, modified, qd, qdd, g0, O[0], False, tau, O, CS, F, NM)
     return True
 
@@ -417,7 +393,7 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     finite = True
     for i in range(Q.shape[0]):
-        _geometry(P, modified, Q[i], O, CS)
+        geometry(P, modified, Q[i], O, CS)
         rnea_one(P, modified, QD[i], QDD[i], g0, FEXT[i if use_ext else 0], use_ext, TAU[i], O, CS, F, NM)
         finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDD[i])
     return finite
@@ -425,13 +401,13 @@ def rnea_batch(P, Q, QD, QDD, g0, FEXT, use_ext, TAU):
 
 @njit(**JIT)
 def ct_batch(P, Q, QD, QDES, QDDES, QDDDES, KP, KD, g0, TAU, QDDREF):
-    """:func:`_ct_one` per configuration (gains KP, KD (N,)); finite inputs?"""
+    """:func:`ct_one` per configuration (gains KP, KD (N,)); finite inputs?"""
     modified = P[0, MOD] != 0.0
     n = P.shape[0]
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     finite = True
     for i in range(Q.shape[0]):
-        _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, TAU[i], QDDREF[i], O, CS, F, NM)
+        ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, TAU[i], QDDREF[i], O, CS, F, NM)
         finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(QDES[i]) and all_finite(QDDES[i]) and all_finite(QDDDES[i])
     return finite
 
@@ -444,7 +420,7 @@ def crba_batch(P, Q, MM):
     O, CS = np.empty((n, 3)), np.empty((n, 2))
     finite = True
     for i in range(Q.shape[0]):
-        _geometry(P, modified, Q[i], O, CS)
+        geometry(P, modified, Q[i], O, CS)
         crba_one(P, modified, MM[i], O, CS)
         finite = finite and all_finite(Q[i])
     return finite
@@ -463,187 +439,3 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
                 bias, M, O, CS, F, NM)
         finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(TAU[i])
     return finite
-
-
-@njit(**INLINE)
-def _step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_held, stops, q1, qd1, qdd1, reaction, at,
-              work):
-    """One step of :func:`step_batch` for one configuration (its rules there); the status.
-    ``use_start``: ``a_start`` is the start acceleration, if finite and nothing is held or
-    on a stop; ``held`` (n,) the joints named held when ``use_held`` (overwritten with
-    ``stops``); ``work`` the kernels' work arrays."""
-    O, CS, F, NM, zero, bias, M, fext, a1, a2, a3, a4, qs, vs, react = work
-    n = P.shape[0]
-    any_held, on_stop = False, False
-    if stops:
-        for j in range(n):
-            on_lo, on_hi = q[j] == P[j, QLO], q[j] == P[j, QHI]
-            held[j] = False
-            if on_lo or on_hi:
-                on_stop = True
-                if (on_lo and on_hi) or (v[j] < 0.0 if on_lo else v[j] > 0.0):
-                    return AT_STOP
-                if v[j] == 0.0:
-                    held[j] = any_held = True
-    elif use_held:
-        for j in range(n):
-            any_held = any_held or held[j]
-    if use_start and not (any_held or on_stop) and all_finite(a_start):
-        a1[:] = a_start
-    else:
-        fd_one(P, modified, q, v, tau, g0, fext, False, held, any_held, a1, react, zero, bias, M, O, CS, F, NM)
-        if not all_finite(a1):
-            return BAD_ACCEL
-    if any_held:
-        for j in range(n):
-            if stops and held[j] and (react[j] < 0.0 if q[j] == P[j, QLO] else react[j] > 0.0):
-                return AT_STOP  # this stop would pull: the joint may leave
-            reaction[j] = react[j] if held[j] else 0.0
-    elif stops or use_held:
-        reaction[:] = 0.0
-    qdd1[:] = a1
-    if not rk4:
-        euler_combine(h, q, v, a1, q1, qd1)
-    else:
-        for stage in range(3):  # stages 2, 3, 4 of RK4
-            prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
-            out = a2 if stage == 0 else (a3 if stage == 1 else a4)
-            rk4_stage(h if stage == 2 else 0.5 * h, q, v, prev, v if stage == 0 else vs, qs, vs)
-            if not (all_finite(qs) and all_finite(vs)):
-                return BAD_STATE
-            fd_one(P, modified, qs, vs, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F, NM)
-            if not all_finite(out):
-                return BAD_ACCEL
-        rk4_combine(h, q, v, a1, a2, a3, a4, q1, qd1)
-    status = OK
-    if stops:
-        for j in range(n):
-            x, lo, hi = q1[j], P[j, QLO], P[j, QHI]
-            at[j] = x == lo or x == hi
-            if x < lo or x > hi:
-                status = AT_STOP if any_held else CROSSED
-            elif at[j] and status == OK:
-                status = ON_LIMIT
-    return status
-
-
-@njit(**INLINE)
-def step_work(n):
-    """The work arrays of :func:`_step_one` for n joints."""
-    return (np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3)), np.zeros(n), np.empty(n),
-            np.empty((n, n)), np.zeros(6), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
-            np.empty(n), np.empty(n))
-
-
-@njit(**JIT)
-def step_batch(P, rk4, h, Q, QD, TAU, A1, known, g0, active, HELD, use_held, stops, Q1, QD1, QDD1, REACT, AT, STATUS):
-    """One step of length h [s] per configuration i with ``active[i]``, effort TAU[i] held:
-    classical RK4 (``rk4``) or semi-implicit Euler.  ``known[i]``: A1[i] is the
-    acceleration at the start (used when finite and no joint is held or on a stop).
-    Writes the new state into Q1, QD1, the start acceleration into QDD1 and a status
-    (:data:`OK` … :data:`AT_STOP`) into STATUS.
-
-    Held joints (q̈ = 0 in every stage, see :func:`fd_one`): with ``use_held``, those of
-    HELD[i]; with ``stops`` (the joint limits of P), those resting on a stop: exactly on
-    it at zero velocity, kept there only if every reaction pushes (λ_j ≥ 0 on a min stop,
-    ≤ 0 on a max stop), else :data:`AT_STOP`.  A start with a joint on a stop moving into
-    it, or on a one-point range, is :data:`AT_STOP` too.  Where a joint is held, REACT[i]
-    is the stops' reaction at the start (0.0 elsewhere); with ``stops``, AT[i] flags the
-    joints exactly on a limit at the end, and an end beyond a limit is :data:`CROSSED`
-    (from a start holding no joint; else :data:`AT_STOP`)."""
-    modified = P[0, MOD] != 0.0
-    n = P.shape[0]
-    work = step_work(n)
-    held = np.zeros(n, dtype=np.bool_)
-    for i in range(Q.shape[0]):
-        if not active[i]:
-            continue
-        if use_held:
-            held[:] = HELD[i]
-        STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], TAU[i], A1[i], known[i], g0, held, use_held, stops,
-                              Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)
-
-
-@njit(**JIT)
-def ct_step_batch(P, rk4, h, Q, QD, QDES, QDDES, QDDDES, KP, KD, ELIM, g0, active, stops, CMD, TAU, Q1, QD1, QDD1, REACT,
-                  AT, STATUS):
-    """Computed torque and one step, fused: per configuration i with ``active[i]``, the
-    command CMD[i] = ID(q, q̇, q̈_ref) of :func:`_ct_one` (gains KP[i], KD[i]), the effort
-    TAU[i] = CMD[i] clipped to ±ELIM (n,), and the step of :func:`step_batch` with that
-    effort held, starting from q̈_ref when nothing saturated.  The same operations as
-    :func:`ct_batch`, NumPy's clip and :func:`step_batch` one after the other, so the same
-    bits.  A command whose sum of squares is not finite is :data:`BAD_EFFORT` (not
-    stepped)."""
-    modified = P[0, MOD] != 0.0
-    n = P.shape[0]
-    work = step_work(n)
-    O, CS, F, NM = work[0], work[1], work[2], work[3]
-    held = np.zeros(n, dtype=np.bool_)
-    qdd_ref = np.empty(n)
-    for i in range(Q.shape[0]):
-        if not active[i]:
-            continue
-        cmd, tau = CMD[i], TAU[i]
-        _ct_one(P, modified, Q[i], QD[i], QDES[i], QDDES[i], QDDDES[i], KP[i], KD[i], g0, cmd, qdd_ref, O, CS, F, NM)
-        if not squares_finite(cmd):
-            STATUS[i] = BAD_EFFORT
-            continue
-        saturated = clip_effort(cmd, ELIM, tau)
-        STATUS[i] = _step_one(P, modified, rk4, h, Q[i], QD[i], tau, qdd_ref, not saturated, g0, held, False, stops,
-                              Q1[i], QD1[i], QDD1[i], REACT[i], AT[i], work)
-
-
-#: Control laws of :func:`run_steps`: no effort, PD, PD plus gravity, computed torque.
-LAW_PASSIVE, LAW_PD, LAW_PDG, LAW_CT = 0, 1, 2, 3
-
-
-@njit(**JIT)
-def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vlim, g0, stops, q, qd, qdd, cmd, tau,
-              sat, vsat):
-    """Up to ``n_steps`` steps of one arm under a sampled joint law with the desired values
-    q_des, qd_des, qdd_des (n,) fixed: per step the command ``cmd`` (LAW_PASSIVE: 0;
-    LAW_PD: kp (q_des − q) + kd (q̇_des − q̇), kp and kd (n,); LAW_PDG: that plus g(q);
-    LAW_CT: :func:`_ct_one` with the gains kp[0], kd[0]), the effort ``tau`` the command
-    clipped to ±elim (``sat`` flags the joints clipped), the step of :func:`step_batch`
-    (from q̈_ref for computed torque where nothing saturated), and q̇ clipped to ±vlim
-    (``vsat`` flags the joints braked).  The operations of the physics loop's step in
-    turn, so the same bits.  q, qd (n,) are advanced in place; qdd, cmd, tau, sat, vsat
-    hold the last step's.  Returns the number of steps taken: it stops before a step
-    whose command or end state is not finite or whose status is not :data:`OK` (a stop
-    touched), which the caller takes its own way."""
-    modified = P[0, MOD] != 0.0
-    n = P.shape[0]
-    work = step_work(n)
-    O, CS, F, NM = work[0], work[1], work[2], work[3]
-    held = np.zeros(n, dtype=np.bool_)
-    zero = np.zeros(n)
-    a_ref, g, c, t = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    q1, qd1, qdd1, react, at = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.zeros(n, dtype=np.bool_)
-    for k in range(n_steps):
-        if law == LAW_CT:
-            _ct_one(P, modified, q, qd, q_des, qd_des, qdd_des, kp[0], kd[0], g0, c, a_ref, O, CS, F, NM)
-        elif law == LAW_PASSIVE:
-            c[:] = 0.0
-        else:
-            for j in range(n):
-                c[j] = kp[j] * (q_des[j] - q[j]) + kd[j] * (qd_des[j] - qd[j])
-            if law == LAW_PDG:
-                _geometry(P, modified, q, O, CS)
-                rnea_one(P, modified, zero, zero, g0, O[0], False, g, O, CS, F, NM)
-                for j in range(n):
-                    c[j] += g[j]
-        if not squares_finite(c):
-            return k
-        saturated = clip_effort(c, elim, t)
-        if _step_one(P, modified, rk4, h, q, qd, t, a_ref, law == LAW_CT and not saturated, g0, held, False, stops,
-                     q1, qd1, qdd1, react, at, work) != OK:
-            return k
-        for j in range(n):
-            v = qd1[j]
-            vsat[j] = abs(v) > vlim[j]
-            qd1[j] = min(max(v, -vlim[j]), vlim[j])
-        if not (squares_finite(q1) and squares_finite(qd1)):
-            return k
-        for j in range(n):
-            q[j], qd[j], qdd[j], cmd[j], tau[j], sat[j] = q1[j], qd1[j], qdd1[j], c[j], t[j], abs(c[j]) > elim[j]
-    return n_steps

@@ -41,6 +41,8 @@ from robot_sim.collision import batch
 from robot_sim.collision.checker import CollisionChecker
 from robot_sim.collision.path import lever_arms
 from robot_sim.sim import contact_kernels as K
+from robot_sim.sim.contact_kernels import MIN_MARGIN
+from robot_sim.sim.step_kernels import contact_step
 from robot_sim.sim.stepper import raise_for
 
 FloatArray = NDArray[np.float64]
@@ -49,9 +51,6 @@ FloatArray = NDArray[np.float64]
 OMEGA_DT = 0.3
 #: Damping ratio of the normal and tangential spring-dampers (critical).
 DAMPING_RATIO = 1.0
-#: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
-#: start of a step are the active ones: only they can touch during the step.
-MIN_MARGIN = 2e-3
 #: Coulomb coefficient unless told otherwise (dry metal or plastic on wood): an arm lying
 #: on a table comes to rest (frictionless, it would keep turning about a vertical joint).
 DEFAULT_FRICTION = 0.5
@@ -100,6 +99,9 @@ class ContactModel:
         self._revolute = robot.jtype == JTYPE_REVOLUTE
         home = robot.q_home[None]
         self._arms = lever_arms(checker, home, home)[0] if self._revolute.all() else None  # else they vary with q
+        self._scene = (scene.world0, scene.link, scene.local, scene.recs0, scene.kinds, scene.bc, scene.br, scene.verts,
+                       self._body, self._axis_frame, self._revolute, checker.pairs,
+                       self._arms if self._arms is not None else np.zeros(n))
         self._pairs = checker.pairs
         self._active = np.zeros(0, dtype=np.int64)  # rows of checker.pairs
         self._rows = np.zeros((0, 2), dtype=np.int64)  # their scene rows
@@ -110,6 +112,7 @@ class ContactModel:
         self._F = np.empty((n + 1, 3, 4))
         self._near = np.zeros(1, dtype=np.bool_)  # buffers of the compiled near check
         self._stats = np.zeros(2, dtype=np.int64)
+        self._work = K.contact_work(scene.dh, self.compiled(all_q=False))
 
     # ------------------------------------------------------------------ stepping
     @property
@@ -117,12 +120,23 @@ class ContactModel:
         """Whether some pair is active in the current step (else the contact torque is zero)."""
         return self._active.size > 0
 
+    def compiled(self, all_q: bool = True) -> tuple | None:
+        """The contact tuple of the compiled kernels (:mod:`.contact_kernels`): the scene,
+        the lever arms and this step's active pairs, gains and anchors (its arrays are this
+        model's: a kernel that moves the anchors moves them here).  With ``all_q``, None
+        when the lever arms vary with q (a prismatic joint), which the compiled
+        multi-step loop needs fixed."""
+        if all_q and self._arms is None:
+            return None
+        return (*self._scene, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._out)
+
     def margin(self, q: FloatArray, qd: FloatArray, dt: float) -> float:
         """How close [m] a pair must be at (q, qd) to be active in a step of ``dt`` [s]:
         twice the lever-arm bound of any shape point's motion in the step (joint j moves
-        points at most R_j |q̇_j| fast, :func:`.path.lever_arms`), at least :data:`MIN_MARGIN`."""
+        points at most R_j |q̇_j| fast, :func:`.path.lever_arms`), at least :data:`MIN_MARGIN`
+        (:func:`.contact_kernels.margin`)."""
         arms = self._arms if self._arms is not None else lever_arms(self.checker, q[None], q[None])[0]
-        return max(MIN_MARGIN, 2.0 * dt * float(arms @ np.abs(qd)))
+        return K.margin(arms, np.ascontiguousarray(qd, dtype=float), float(dt))
 
     def begin_step(self, q: ArrayLike, qd: ArrayLike, dt: float) -> bool:
         """Start a step of ``dt`` [s] from (q, qd): choose the active pairs, fix the gains of
@@ -178,19 +192,14 @@ class ContactModel:
              g0: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """One step of length ``h`` [s] from (q, q̇) (n,) with the effort tau held, the
         contact torque of this step's active pairs at every stage (one compiled call,
-        :func:`.contact_kernels.contact_step`; RK4 when ``rk4``, else semi-implicit
+        :func:`.step_kernels.contact_step`; RK4 when ``rk4``, else semi-implicit
         Euler; gravity ``g0`` in frame 0; ``a1`` the start's acceleration when known):
         (q, q̇) after it and the start's acceleration.  StepDiverged if a stage state or
         acceleration is not finite."""
-        scene = self.checker.scene
         n = self.robot.n_dofs
         q1, qd1, qdd1 = np.empty(n), np.empty(n), np.empty(n)
-        status = K.contact_step(
-            scene.dh, rk4, h, q, qd, tau, qd if a1 is None else a1, a1 is not None, g0, scene.world0, scene.link,
-            scene.local, scene.recs0, scene.kinds, scene.bc, scene.br, scene.verts, self._body, self._axis_frame,
-            self._revolute, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._out, q1, qd1,
-            qdd1,
-        )
+        status = contact_step(self.checker.scene.dh, rk4, h, q, qd, tau, qd if a1 is None else a1, a1 is not None, g0,
+                              self.compiled(all_q=False), q1, qd1, qdd1)
         raise_for(status)
         return q1, qd1, qdd1
 
@@ -228,9 +237,8 @@ class ContactModel:
     def _evaluate(self, q: FloatArray, qd: FloatArray, update: bool = False) -> FloatArray:
         scene = self.checker.scene
         tau = np.empty(self.robot.n_dofs)
-        K.contact_torque(q, qd, *scene.args(), scene.verts, self._body, self._axis_frame, self._revolute,
-                         self._rows, self._gains, self.friction, self._anchors, self._anchored, update, tau,
-                         self._out)
+        K.contact_torque(q, qd, scene.dh, self.robot.is_modified, self.compiled(all_q=False), update, False, tau,
+                         self._work)
         return tau
 
     def _frames(self, q: FloatArray) -> None:

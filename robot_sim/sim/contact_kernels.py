@@ -1,11 +1,25 @@
 """Compiled penalty-contact terms (:mod:`.contact`): point Jacobians of link points, the
-joint torque of the contacts of one configuration, and the step of an arm in contact
-(:func:`contact_step`: the contact torque at every integration stage, in one call).
+joint torque of the contacts of one configuration, the check that the pairs near
+contact are still the active ones, and the bound on how close a pair must be to become
+active.  The step of an arm in contact is the one stepping kernel's
+(:func:`robot_sim.sim.step_kernels.step_one` with a contact tuple).
 
-Arrays as in :mod:`.batch`, plus ``body`` (S + O,): the link (0 base .. n) a scene row is
-fixed to, -1 for obstacles (fixed in the world); ``axis_frame`` (n,): the frame whose z
-axis and origin carry joint j (j for standard DH, j + 1 for modified); ``revolute`` (n,).
-World frame, metres, newtons; joint torques in N·m (revolute) or N (prismatic).
+Arrays as in :mod:`robot_sim.collision.batch`.  A *contact tuple* ``C`` holds a checker's
+scene and the active pairs of the current step, in this order:
+
+* ``world0`` (4, 4), ``link`` (S,), ``local`` (S, REC), ``recs0`` (S + O, REC), ``kinds``
+  (S + O,), ``bc`` (S + O, 3), ``br`` (S + O,), ``verts`` (V, 3): the scene;
+* ``body`` (S + O,): the link (0 base .. n) a scene row is fixed to, -1 for obstacles
+  (fixed in the world); ``axis_frame`` (n,): the frame whose z axis and origin carry
+  joint j (j for standard DH, j + 1 for modified); ``revolute`` (n,) bool;
+* ``pairs`` (P, 2): every checked pair (scene rows); ``arms`` (n,): each joint's lever
+  arm [m/rad, or 1 for a prismatic joint] (``collision.path.lever_arms``);
+* ``rows`` (A, 2): the active pairs (in the order of ``pairs``), ``gains`` (A, 4),
+  ``mu`` the Coulomb coefficient, ``anchors`` (A, POINTS, 2, 3), ``anchored`` (A, POINTS),
+  ``out`` (A, POINTS, OUT) (:func:`contact_torque`).
+
+Its work arrays come from :func:`contact_work`.  World frame, metres, newtons; joint
+torques in N·m (revolute) or N (prismatic).
 """
 from __future__ import annotations
 
@@ -14,13 +28,10 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision.batch import _pose, _workspace
-from robot_sim.collision.narrow import core_ends, pair_distance
-from robot_sim.dynamics.compiled import all_finite, fd_one, step_work
-from robot_sim.kernels.status import BAD_ACCEL, BAD_STATE, OK
-from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
-from robot_sim.kernels.jit import JIT, njit
-from robot_sim.kernels.model import MOD
+from robot_sim.collision.batch import _gap, _pose
+from robot_sim.collision.closest import dot, point_box
+from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
+from robot_sim.kernels.jit import INLINE, JIT, njit
 
 # Columns of ``gains`` (A, 4) per active pair.
 K_N, C_N, K_T, C_T = range(4)
@@ -31,30 +42,35 @@ O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP = 0, 1, 4, 7, 10
 OUT = 13
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
+#: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
+#: start of a step are the active ones: only they can touch during the step.
+MIN_MARGIN = 2e-3
 
 
-@njit(**JIT)
-def point_velocity(F, k, p, qd, axis_frame, revolute, out):
-    """Velocity (3,) of the point p (world) fixed to link k (-1 or 0: fixed) at joint rates qd."""
-    out[0] = out[1] = out[2] = 0.0
+@njit(**INLINE)
+def point_velocity(F, k, p, qd, axis_frame, revolute):
+    """Velocity (3-tuple) of the point p (world) fixed to link k (-1 or 0: fixed) at joint
+    rates qd."""
+    o0 = o1 = o2 = 0.0
     for j in range(max(k, 0)):
         f = axis_frame[j]
         z0, z1, z2 = F[f, 0, 2], F[f, 1, 2], F[f, 2, 2]
         if revolute[j]:
             r0, r1, r2 = p[0] - F[f, 0, 3], p[1] - F[f, 1, 3], p[2] - F[f, 2, 3]
-            out[0] += (z1 * r2 - z2 * r1) * qd[j]
-            out[1] += (z2 * r0 - z0 * r2) * qd[j]
-            out[2] += (z0 * r1 - z1 * r0) * qd[j]
+            o0 += (z1 * r2 - z2 * r1) * qd[j]
+            o1 += (z2 * r0 - z0 * r2) * qd[j]
+            o2 += (z0 * r1 - z1 * r0) * qd[j]
         else:
-            out[0] += z0 * qd[j]
-            out[1] += z1 * qd[j]
-            out[2] += z2 * qd[j]
+            o0 += z0 * qd[j]
+            o1 += z1 * qd[j]
+            o2 += z2 * qd[j]
+    return o0, o1, o2
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def add_point_torque(F, k, p, force, sign, axis_frame, revolute, tau):
-    """tau += sign · J_k(p)ᵀ force: the joint torque of a force (3,) at the point p (world)
-    of link k (nothing for -1 or 0)."""
+    """tau += sign · J_k(p)ᵀ force: the joint torque of a force (3-tuple) at the point p
+    (world) of link k (nothing for -1 or 0)."""
     for j in range(max(k, 0)):
         f = axis_frame[j]
         z0, z1, z2 = F[f, 0, 2], F[f, 1, 2], F[f, 2, 2]
@@ -74,31 +90,30 @@ def relative_jacobian(F, ka, pa, kb, pb, axis_frame, revolute, J):
     point pa of body ka per unit joint rate."""
     n = J.shape[1]
     e = np.zeros(n)
-    v = np.empty(3)
     for j in range(n):
         e[j] = 1.0
-        point_velocity(F, kb, pb, e, axis_frame, revolute, v)
-        J[0, j], J[1, j], J[2, j] = v[0], v[1], v[2]
-        point_velocity(F, ka, pa, e, axis_frame, revolute, v)
-        J[0, j] -= v[0]
-        J[1, j] -= v[1]
-        J[2, j] -= v[2]
+        vb = point_velocity(F, kb, pb, e, axis_frame, revolute)
+        va = point_velocity(F, ka, pa, e, axis_frame, revolute)
+        J[0, j], J[1, j], J[2, j] = vb[0], vb[1], vb[2]
+        J[0, j] -= va[0]
+        J[1, j] -= va[1]
+        J[2, j] -= va[2]
         e[j] = 0.0
 
 
-@njit(**JIT)
-def to_world(F, k, x, out):
-    """Point x of body k's frame in the world."""
+@njit(**INLINE)
+def to_world(F, k, x):
+    """Point x of body k's frame in the world (3-tuple)."""
     if k < 0:
-        out[0], out[1], out[2] = x[0], x[1], x[2]
-        return
-    for r in range(3):
-        out[r] = F[k, r, 0] * x[0] + F[k, r, 1] * x[1] + F[k, r, 2] * x[2] + F[k, r, 3]
+        return x[0], x[1], x[2]
+    return (F[k, 0, 0] * x[0] + F[k, 0, 1] * x[1] + F[k, 0, 2] * x[2] + F[k, 0, 3],
+            F[k, 1, 0] * x[0] + F[k, 1, 1] * x[1] + F[k, 1, 2] * x[2] + F[k, 1, 3],
+            F[k, 2, 0] * x[0] + F[k, 2, 1] * x[1] + F[k, 2, 2] * x[2] + F[k, 2, 3])
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def to_body(F, k, x, out):
-    """World point x in body k's frame (obstacles, k = -1: the world itself)."""
+    """World point x in body k's frame (obstacles, k = -1: the world itself) into out."""
     if k < 0:
         out[0], out[1], out[2] = x[0], x[1], x[2]
         return
@@ -107,70 +122,75 @@ def to_body(F, k, x, out):
         out[c] = F[k, 0, c] * r0 + F[k, 1, c] * r1 + F[k, 2, c] * r2
 
 
-@njit(**JIT)
-def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchor, anchored, slot, update,
+@njit(**INLINE)
+def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot, update,
                    tau, out):
-    """One contact point of depth −d > 0 (witness points a, b, normal nrm from the first
-    shape to the second): its force into tau (joint torque) and out (distance, point,
-    normal, force on the first, anchor offset).  With ``update`` (a step's start) a point
-    touching for the first time is anchored at its witness points, and a slipping one's
-    second anchor is slid back onto the friction cap."""
-    va, vb, xa, xb, fb = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    pa, pb = np.empty(3), np.empty(3)
-    for c in range(3):
-        pa[c], pb[c] = a[c], b[c]
-    point_velocity(F, ka, pa, qd, axis_frame, revolute, va)
-    point_velocity(F, kb, pb, qd, axis_frame, revolute, vb)
+    """Contact point ``slot`` of active pair p, of depth −d > 0 (witness points a, b,
+    normal nrm from the first shape to the second; 3-tuples).  Without ``update``: its
+    force into tau (joint torque) and out[p, slot] (force on the first shape, anchor
+    offset).  With ``update`` (a step's start, friction on) nothing but its anchors: a
+    point touching for the first time is anchored at its witness points, and a slipping
+    one's second anchor is slid back onto the friction cap."""
+    g = gains[p]
+    anchor = anchors[p, slot]
+    va = point_velocity(F, ka, a, qd, axis_frame, revolute)
+    vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
     v0, v1, v2 = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
     rate = v0 * nrm[0] + v1 * nrm[1] + v2 * nrm[2]
-    fn = max(gains[K_N] * (-d) - gains[C_N] * rate, 0.0)
-    for c in range(3):
-        fb[c] = fn * nrm[c]
+    fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
+    if update and not anchored[p, slot]:
+        to_body(F, ka, a, anchor[0])
+        to_body(F, kb, b, anchor[1])
+        anchored[p, slot] = True
+        return
     u0 = u1 = u2 = 0.0
-    if mu > 0.0 and anchored[slot]:
-        to_world(F, ka, anchor[0], xa)
-        to_world(F, kb, anchor[1], xb)
+    if mu > 0.0 and anchored[p, slot]:
+        xa = to_world(F, ka, anchor[0])
+        xb = to_world(F, kb, anchor[1])
         w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
         wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
         u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
+        if update:
+            size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+            cap = mu * fn / g[K_T]
+            if size > cap:
+                keep = 1.0 - cap / size
+                to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
+            return
+    f0, f1, f2 = fn * nrm[0], fn * nrm[1], fn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
-        g0 = -gains[K_T] * u0 - gains[C_T] * t0
-        g1 = -gains[K_T] * u1 - gains[C_T] * t1
-        g2 = -gains[K_T] * u2 - gains[C_T] * t2
+        g0 = -g[K_T] * u0 - g[C_T] * t0
+        g1 = -g[K_T] * u1 - g[C_T] * t1
+        g2 = -g[K_T] * u2 - g[C_T] * t2
         size = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
         s = mu * fn / size if size > mu * fn else 1.0
-        fb[0] += s * g0
-        fb[1] += s * g1
-        fb[2] += s * g2
-    add_point_torque(F, kb, pb, fb, 1.0, axis_frame, revolute, tau)
-    add_point_torque(F, ka, pa, fb, -1.0, axis_frame, revolute, tau)
-    for c in range(3):
-        out[O_FORCE + c] = -fb[c]
-    out[O_SLIP], out[O_SLIP + 1], out[O_SLIP + 2] = u0, u1, u2
-    if not (update and mu > 0.0):
-        return
-    if not anchored[slot]:
-        to_body(F, ka, pa, anchor[0])
-        to_body(F, kb, pb, anchor[1])
-        anchored[slot] = True
-        return
-    size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-    cap = mu * fn / gains[K_T]
-    if size > cap:
-        keep = 1.0 - cap / size
-        xb[0] -= keep * u0
-        xb[1] -= keep * u1
-        xb[2] -= keep * u2
-        to_body(F, kb, xb, anchor[1])
+        f0 += s * g0
+        f1 += s * g1
+        f2 += s * g2
+    add_point_torque(F, kb, b, (f0, f1, f2), 1.0, axis_frame, revolute, tau)
+    add_point_torque(F, ka, a, (f0, f1, f2), -1.0, axis_frame, revolute, tau)
+    o = out[p, slot]
+    o[O_FORCE], o[O_FORCE + 1], o[O_FORCE + 2] = -f0, -f1, -f2
+    o[O_SLIP], o[O_SLIP + 1], o[O_SLIP + 2] = u0, u1, u2
 
 
 @njit(**JIT)
-def contact_torque(q, qd, dh, modified, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
-                   revolute, rows, gains, mu, anchors, anchored, update, tau, out):
-    """The joint torque tau (n,) of the active pairs ``rows`` (A, 2) at (q, qd), and per
-    pair and contact point into ``out`` (A, POINTS, OUT) its distance, witness point,
-    normal, force and anchor offset (distance inf: no such point).
+def contact_work(dh, C):
+    """The work arrays of :func:`contact_torque` and :func:`same_pairs` for the model
+    table ``dh`` and the contact tuple ``C``: link frames, world records (obstacle rows
+    filled), world bounding centres (obstacle rows filled) and a record."""
+    recs0, bc = C[3], C[5]
+    return np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1])
+
+
+@njit(**JIT)
+def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
+    """The joint torque tau (n,) of the active pairs ``rows`` of the contact tuple ``C``
+    at (q, qd), and per pair and contact point into its ``out`` (A, POINTS, OUT) the
+    distance, witness point, normal, force and anchor offset (distance inf: no such
+    point).  ``dh``, ``modified``: the model table and its convention; ``work``:
+    :func:`contact_work`, already posed at q when ``posed`` (by :func:`same_pairs`).
 
     Contact points of a pair (first shape a, second b): their closest points and, when a
     is a capsule, the sphere of its shallower end (slot 1 or 2 for its end) if that
@@ -182,46 +202,118 @@ def contact_torque(q, qd, dh, modified, world0, link, local, recs0, kinds, bc, b
     mu · f_n, where u is the tangential offset between the point's two anchors
     (``anchors`` (A, POINTS, 2, 3): a point on each shape, in its body's frame; zero
     where not ``anchored`` (A, POINTS)) and v_t the slip velocity.  The force on b acts
-    at b's witness point, its opposite at a's.  ``update`` (at a step's start) also
+    at b's witness point, its opposite at a's.  ``update`` (at a step's start) first
     moves the anchors (:func:`_contact_force`) and releases those of points that do not
-    touch."""
-    F, recs, wc = _workspace(dh, link, recs0, bc)
-    _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
+    touch: the torque is then the one at the moved anchors."""
+    world0, link, local, _, kinds, bc, _, verts, body, axis_frame, revolute = C[:11]
+    rows, gains, mu, anchors, anchored, out = C[13:]
+    F, recs, wc, end = work
+    if not posed:
+        _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
     for j in range(tau.shape[0]):
         tau[j] = 0.0
-    end = np.empty(recs.shape[1])
+    moving = update and mu > 0.0
     for p in range(rows.shape[0]):
         i, j = rows[p, 0], rows[p, 1]
+        ka, kb = body[i], body[j]
         for e in range(POINTS):
             out[p, e, O_D] = math.inf
         d, a, b, nrm = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, math.inf)
         _record(out[p, 0], d, a, nrm)
         if gains[p, K_N] > 0.0 and d < 0.0:
-            _contact_force(F, body[i], body[j], d, a, b, nrm, qd, axis_frame, revolute, gains[p], mu, anchors[p, 0],
-                           anchored[p], 0, update, tau, out[p, 0])
+            if moving:
+                _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
+                               True, tau, out)
+            _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
+                           False, tau, out)
             if kinds[i] == L.CAPSULE:
                 ends = core_ends(kinds[i], recs[i])
-                d_end = np.empty(2)
-                for e in range(2):
-                    end[:] = recs[i]
+                # the end farther from the closest point first: when it does not touch, the
+                # shallower end does not either, and the other need not be computed
+                far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
+                end[:] = recs[i]
+                for c in range(3):
+                    end[L.POS + c] = ends[far][c]
+                result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
+                if de < 0.0:
                     for c in range(3):
-                        end[L.POS + c] = ends[e][c]
-                    d_end[e] = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)[0]
-                e = 0 if d_end[0] >= d_end[1] else 1  # the shallower end
-                if d_end[e] < 0.0:
-                    for c in range(3):
-                        end[L.POS + c] = ends[e][c]
-                    de, ae, be, ne = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                        end[L.POS + c] = ends[1 - far][c]
+                    other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    first, second = (result, other) if far == 0 else (other, result)
+                    e = 0 if first[0] >= second[0] else 1  # the shallower end
+                    de, ae, be, ne = first if e == 0 else second
+                if de < 0.0:
                     _record(out[p, 1 + e], de, ae, ne)
-                    _contact_force(F, body[i], body[j], de, ae, be, ne, qd, axis_frame, revolute, gains[p], mu,
-                                   anchors[p, 1 + e], anchored[p], 1 + e, update, tau, out[p, 1 + e])
+                    if moving:
+                        _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
+                                       anchored, p, 1 + e, True, tau, out)
+                    _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors, anchored,
+                                   p, 1 + e, False, tau, out)
         if update:
             for e in range(POINTS):
                 if not out[p, e, O_D] < 0.0 or gains[p, K_N] <= 0.0:
                     anchored[p, e] = False
 
 
+@njit(**INLINE)
+def margin(arms, qd, dt):
+    """How close [m] a pair must be at joint rates qd to be active in a step of dt [s]:
+    twice the lever-arm bound Σ_j arms_j |q̇_j| dt of any shape point's motion in the
+    step, at least :data:`MIN_MARGIN`."""
+    speed = 0.0
+    for j in range(qd.shape[0]):
+        speed += arms[j] * abs(qd[j])
+    return max(MIN_MARGIN, 2.0 * dt * speed)
+
+
+@njit(**INLINE)
+def _lower_bound(kinds, recs, wc, br, i, j):
+    """A lower bound [m] of the distance of scene rows i and j: from the bounding sphere of
+    i to the box or half-space j itself (exact for the sphere), else from bounding sphere
+    to bounding sphere."""
+    kind = kinds[j]
+    if kind == L.HALFSPACE:
+        rec = recs[j]
+        normal = axis_z(rec)
+        return dot(normal, (wc[i, 0], wc[i, 1], wc[i, 2])) - dot(normal, (rec[L.POS], rec[L.POS + 1], rec[L.POS + 2])) - br[i]
+    if kind == L.BOX:
+        rec = recs[j]
+        centre = to_local(rec, (wc[i, 0], wc[i, 1], wc[i, 2]))
+        return point_box(centre, (rec[L.HALF_X], rec[L.HALF_Y], rec[L.HALF_Z]))[0] - br[i]
+    return _gap(wc, br, i, j)
+
+
 @njit(**JIT)
+def same_pairs(q, dh, modified, C, threshold, work):
+    """True when the checked pairs of the contact tuple ``C`` closer than ``threshold``
+    [m] at q (the broad phase first: a pair whose :func:`_lower_bound` is that far is
+    not; then the narrow-phase distance) are exactly its active ``rows``; stops at the
+    first pair that differs."""
+    world0, link, local, _, kinds, bc, br, verts = C[:8]
+    pairs, rows = C[11], C[13]
+    F, recs, wc = work[0], work[1], work[2]
+    _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
+    k = 0
+    for p in range(pairs.shape[0]):
+        i, j = pairs[p, 0], pairs[p, 1]
+        if _lower_bound(kinds, recs, wc, br, i, j) >= threshold:
+            continue
+        if not pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, threshold)[0] < threshold:
+            continue
+        if k == rows.shape[0] or rows[k, 0] != i or rows[k, 1] != j:
+            return False
+        k += 1
+    return k == rows.shape[0]
+
+
+@njit(**INLINE)
+def _distance2(x, y):
+    """Squared distance of two 3-vectors."""
+    return (x[0] - y[0]) ** 2 + (x[1] - y[1]) ** 2 + (x[2] - y[2]) ** 2
+
+
+@njit(**INLINE)
 def _record(out, d, a, nrm):
     out[O_D] = d
     for c in range(3):
@@ -229,60 +321,3 @@ def _record(out, d, a, nrm):
         out[O_NORMAL + c] = nrm[c]
         out[O_FORCE + c] = 0.0
         out[O_SLIP + c] = 0.0
-
-
-@njit(**JIT)
-def _contact_accel(P, modified, q, qd, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
-                   revolute, rows, gains, mu, anchors, anchored, out, total, contact, acc, held, work):
-    """q̈ at (q, q̇) under the effort tau plus the contact torque of the active pairs
-    (:func:`contact_torque` with the step's gains and anchors) into ``acc`` (``held``: the
-    placeholder of ``fd_one``'s held joints, none here)."""
-    O, CS, F, NM, zero, bias, M, fext, _, _, _, _, _, _, react = work
-    contact_torque(q, qd, P, modified, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame, revolute,
-                   rows, gains, mu, anchors, anchored, False, contact, out)
-    for j in range(tau.shape[0]):
-        total[j] = tau[j] + contact[j]
-    fd_one(P, modified, q, qd, total, g0, fext, False, held, False, acc, react, zero, bias, M, O, CS, F, NM)
-
-
-@njit(**JIT)
-def contact_step(P, rk4, h, q, qd, tau, a_start, use_start, g0, world0, link, local, recs0, kinds, bc, br, verts, body,
-                 axis_frame, revolute, rows, gains, mu, anchors, anchored, out, q1, qd1, qdd1):
-    """One step of length h [s] of an arm in contact from (q, q̇) (n,) with the effort tau
-    held: classical RK4 (``rk4``) or semi-implicit Euler, the acceleration of every stage
-    that of tau plus the contact torque at the stage's state (forward dynamics of the
-    model table P, gravity g0 in frame 0; the scene arrays and the active pairs, gains and
-    anchors of :func:`contact_torque`, P being the scene's table too).  ``a_start`` is the
-    start's acceleration when ``use_start`` and finite.  (q, q̇) after the step into q1,
-    qd1, the start's acceleration into qdd1; returns the status of
-    ``dynamics.compiled.step_batch`` (OK, BAD_STATE, BAD_ACCEL).  The operations of
-    ``Simulation``'s stage-by-stage step, so the same bits."""
-    n = P.shape[0]
-    modified = P[0, MOD] != 0.0
-    work = step_work(n)
-    held = np.zeros(1, dtype=np.bool_)
-    a1, a2, a3, a4, qs, vs = work[8], work[9], work[10], work[11], work[12], work[13]
-    total, contact = np.empty(n), np.empty(n)
-    if use_start and all_finite(a_start):
-        a1[:] = a_start
-    else:
-        _contact_accel(P, modified, q, qd, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body, axis_frame,
-                       revolute, rows, gains, mu, anchors, anchored, out, total, contact, a1, held, work)
-        if not all_finite(a1):
-            return BAD_ACCEL
-    qdd1[:] = a1
-    if not rk4:
-        euler_combine(h, q, qd, a1, q1, qd1)
-        return OK
-    for stage in range(3):  # stages 2, 3, 4 of RK4
-        prev = a1 if stage == 0 else (a2 if stage == 1 else a3)
-        acc = a2 if stage == 0 else (a3 if stage == 1 else a4)
-        rk4_stage(h if stage == 2 else 0.5 * h, q, qd, prev, qd if stage == 0 else vs, qs, vs)
-        if not (all_finite(qs) and all_finite(vs)):
-            return BAD_STATE
-        _contact_accel(P, modified, qs, vs, tau, g0, world0, link, local, recs0, kinds, bc, br, verts, body,
-                       axis_frame, revolute, rows, gains, mu, anchors, anchored, out, total, contact, acc, held, work)
-        if not all_finite(acc):
-            return BAD_ACCEL
-    rk4_combine(h, q, qd, a1, a2, a3, a4, q1, qd1)
-    return OK

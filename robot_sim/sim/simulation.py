@@ -336,7 +336,7 @@ class Simulation:
         desired = None
         taken = 0
         law = self._sampled_law()
-        if law is not None and not self._any_at_limit:  # free steps in one compiled call (no NumPy warnings to mute)
+        if law is not None:  # whole steps in one compiled call (no NumPy warnings to mute)
             desired = desired_at(self.time)
             taken = self._run_law(law, desired, n_steps)
             if taken == 0:
@@ -350,7 +350,7 @@ class Simulation:
                         self.stopped = stop_message(self.time, str(exc))
                         break
                     taken += 1
-                    if law is not None and not self._any_at_limit and taken < n_steps:
+                    if law is not None and taken < n_steps:
                         fixed = desired_at(self.time)
                         run = self._run_law(law, fixed, n_steps - taken)
                         if run:
@@ -362,25 +362,35 @@ class Simulation:
         """The controller's sampled law and gains (``Controller.sampled_law``) when whole
         steps of it may run in one compiled call: the compiled backend, the controller's
         model is the simulated robot, the desired values are fixed over the call (no
-        reference), and nothing but the effort acts (no contact, pull or tool wrench)."""
+        reference), and nothing but the effort and the contact acts (no pull or tool
+        wrench; contact whose lever arms do not vary with q)."""
         controller = self.controller
-        if (self._reference is not None or self.contact is not None or self._pull is not None or self._wrench is not None
+        if (self._reference is not None or self._pull is not None or self._wrench is not None
                 or controller.space != "joint" or controller.continuous or dynamics.backend() != "compiled"
-                or getattr(controller, "robot", self.robot) is not self.robot):
+                or getattr(controller, "robot", self.robot) is not self.robot
+                or (self.contact is not None and self.contact.compiled() is None)):
             return None
         return controller.sampled_law()
 
     def _run_law(self, law: tuple[str, FloatArray, FloatArray], desired: Desired, n_steps: int) -> int:
-        """Up to ``n_steps`` free steps of the sampled ``law`` toward ``desired`` in one
-        compiled call (``Stepper.run_law``: the same bits as :meth:`_step` one step at a
-        time); the number taken, whose record it writes as :meth:`_finish` does."""
-        taken, (q, qd, qdd, command, effort, saturated, braked) = self._stepper_of().run_law(
+        """Up to ``n_steps`` steps of the sampled ``law`` toward ``desired`` in one compiled
+        call (``Stepper.run_law``: the same bits as :meth:`_step` one step at a time, with
+        joints resting on their stops and the contact of unchanged pairs inside); the
+        number taken, whose record it writes as :meth:`_finish` does."""
+        contact = None if self.contact is None else self.contact.compiled()
+        taken, (q, qd, qdd, command, effort, saturated, braked), stops = self._stepper_of().run_law(
             *law, desired, self.effort_limit, self.velocity_limit, self.q, self.qd, n_steps, stops=self._limit_position,
+            on_limit=self._any_at_limit, contact=contact,
         )
         if taken:
             self.q, self.qd, self.qdd = q, qd, qdd
             self.effort_command, self.effort = command, effort
             self.saturated, self.velocity_limited = saturated, braked
+            if stops is not None:
+                self.at_limit, self.limit_torque = stops
+                self._any_at_limit = bool(self.at_limit.any())
+            if contact is not None:
+                self._touching = self.contact.active
             for _ in range(taken):  # the clock as the step-by-step loop advances it
                 self.time += self.dt
             self.steps += taken

@@ -1,6 +1,6 @@
 """The stepper of the physics loop: fixed steps of N arms of one robot with their joint
 efforts held over each step, by classical RK4 or semi-implicit Euler, in one compiled
-call (``dynamics.compiled.step_batch``) or by the reference backend's batched forward
+call (:func:`robot_sim.sim.step_kernels.step_batch`) or by the reference backend's batched forward
 dynamics (``dynamics.set_backend("reference")``).  Joints resting on their stops are held
 inside the step; what the stepper does not resolve (an impact, a release, an arrival) it
 hands back by status to the stop resolver (:mod:`robot_sim.sim.stops`).
@@ -125,7 +125,10 @@ class Stepper:
             raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
         self.robot, self.dt, self.method = robot, float(dt), method
         self.shape = (int(n_arms), robot.n_dofs)
-        self._kernels, self._table, g0 = dynamics.compiled_kernels(robot, gravity)
+        from robot_sim.sim import step_kernels  # numba, on first use
+
+        self._kernels = step_kernels
+        _, self._table, g0 = dynamics.compiled_kernels(robot, gravity)
         self._g0 = g0.copy()
         #: Gravity in frame 0 (3,) [m/s²], as the compiled kernels take it.
         self.gravity = self._g0
@@ -138,6 +141,7 @@ class Stepper:
         self._all = np.ones(self.shape[0], dtype=bool)
         self._none = np.zeros(self.shape[0], dtype=bool)
         self._no_held = np.zeros(self.shape, dtype=bool)
+        self._limits = (np.zeros(self.shape[1], dtype=bool), np.zeros(self.shape[1]), np.zeros(1, dtype=bool))
 
     def step(
         self,
@@ -252,24 +256,35 @@ class Stepper:
         n_steps: int,
         *,
         stops: bool = False,
-    ) -> tuple[int, tuple[FloatArray, ...]]:
+        on_limit: bool = False,
+        contact: tuple | None = None,
+    ) -> tuple[int, tuple[FloatArray, ...], tuple[NDArray[np.bool_], FloatArray] | None]:
         """Up to ``n_steps`` steps of one arm (a one-arm stepper, compiled backend) from
         (q, q̇) (n,) under the sampled ``law`` (``Controller.sampled_law``: "passive", "pd",
         "pdg", "ct" with its gains kp, kd) toward the fixed ``desired`` (q, q̇, q̈) (n,),
-        in one compiled call (``dynamics.compiled.run_steps``): per step the command, its
-        clip to ±``effort_limit``, :meth:`step` (``stops`` as there) and q̇ clipped to
-        ±``velocity_limit`` (n,).  Returns the number of steps taken (it stops before a
-        step that is not finite or touches a stop) and the state after the last one:
-        (q, q̇, q̈ at its start, command, effort [N·m or N], joints saturated, joints braked)."""
+        in one compiled call (:func:`robot_sim.sim.step_kernels.run_steps`): per step the
+        command, its clip to ±``effort_limit``, :meth:`step` (``stops`` as there: joints
+        resting on their stops held) and q̇ clipped to ±``velocity_limit`` (n,).
+        ``on_limit``: some joint is on a limit before the first step.  ``contact``: the
+        contact tuple of a ``ContactModel`` (``ContactModel.compiled``), whose pairs then
+        act at every stage.  Returns the number of steps taken (it stops before a step the
+        physics loop resolves its own way: not finite, a stop met, the pairs near contact
+        changed), the state after the last one: (q, q̇, q̈ at its start, command, effort
+        [N·m or N], joints saturated, joints braked), and the stops' record of the last
+        step that held joints or ended on a limit (joints on a limit (n,) bool, the stops'
+        reaction (n,) [N·m or N]; new arrays), or None when no step did."""
         n = self.shape[1]
         q, qd = q.copy(), qd.copy()
         out = (q, qd, np.empty(n), np.empty(n), np.empty(n), np.empty(n, dtype=bool), np.empty(n, dtype=bool))
+        at_limit, reaction, recorded = self._limits
+        recorded[0] = False
         q_des, qd_des, qdd_des = (np.ascontiguousarray(x, dtype=float) for x in desired)
         taken = self._kernels.run_steps(
-            self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()), np.ascontiguousarray(kp, dtype=float),
-            np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des, effort_limit, velocity_limit, self._g0, stops, *out,
+            self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()),
+            np.ascontiguousarray(kp, dtype=float), np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des,
+            effort_limit, velocity_limit, self._g0, stops, *out, on_limit, at_limit, reaction, recorded, contact,
         )
-        return taken, out
+        return taken, out, ((at_limit.copy(), reaction.copy()) if recorded[0] else None)
 
     def _check_shapes(self, **arrays: FloatArray) -> None:
         """ValueError naming the first array whose shape is not (N, n)."""

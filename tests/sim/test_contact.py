@@ -15,6 +15,7 @@ from contact_helpers import MASS, RADIUS, planar_carriage, vertical_slider
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim import dynamics
 from robot_sim.collision import Box, CollisionChecker, Sphere, World
+from robot_sim.control.controllers import PD, Passive, control_gains
 from robot_sim.sim.contact import MIN_MARGIN, OMEGA_DT, ContactModel
 from robot_sim.sim.simulation import Simulation
 from robot_sim.sim.stepper import runge_kutta
@@ -205,6 +206,59 @@ def test_the_compiled_contact_step_is_the_stage_by_stage_step(integrator):
     assert np.abs(contact.torque(q, qd)).max() > 1.0  # the step is in contact
     for a, b in zip(got, expected):
         assert np.array_equal(a, b)
+
+
+def _step_by_step(kind: type) -> type:
+    """``kind`` with the same torque, evaluated by the loop one step at a time (no compiled
+    multi-step call)."""
+    return type(f"StepByStep{kind.__name__}", (kind,), {"sampled_law": lambda self: None})
+
+
+@pytest.mark.parametrize("kind, friction, stops", [(Passive, 0.5, False), (Passive, 0.0, False), (PD, 0.5, False),
+                                                   (Passive, 0.5, True)])
+def test_the_compiled_multi_step_call_in_contact_equals_the_loop_step_by_step(kind, friction, stops, monkeypatch):
+    """The UR5 falling onto the box, landing, bouncing and coming to rest on it (PD: driven
+    toward a pose below the box's top, pressed onto it; ``stops``: its elbow's range cut
+    to ±0.05 rad about home, so the elbow meets its stops while the arm touches the box):
+    ``step(n)`` running the contact inside one compiled call gives the bits of the loop
+    stepping once at a time (the contact torque at every stage, the friction anchors
+    moved at every step's start, the stops met in contact handed back to the loop), and
+    the compiled call takes the steps whose pairs near contact do not change."""
+    rob, world = ur5_over_box()
+    if stops:
+        q_min, q_max = rob.q_min.copy(), rob.q_max.copy()
+        q_min[2], q_max[2] = rob.q_home[2] - 0.05, rob.q_home[2] + 0.05
+        rob = dataclasses.replace(rob, q_min=q_min, q_max=q_max)
+    runs, loop_steps, events = [], [], []
+    for cls in (kind, _step_by_step(kind)):
+        controller = cls(rob) if kind is Passive else cls(rob, control_gains(rob, bandwidth=1.0))
+        sim = Simulation(rob, controller=controller, checker=CollisionChecker(rob, world), friction=friction)
+        sim.state.set_q_des(rob.q_home + [0.0, 0.5, 0.0, 0.0, 0.0, 0.0])  # PD: the shoulder turned into the box
+        called = [0]
+        one_step = Simulation._step
+
+        def counted(self, desired_at, called=called, one_step=one_step):
+            called[0] += 1
+            return one_step(self, desired_at)
+
+        monkeypatch.setattr(Simulation, "_step", counted)
+        rows = []
+        for _ in range(16):
+            assert sim.step(50) == 50
+            forces = sim.contact_forces
+            rows.append(np.concatenate([sim.q, sim.qd, sim.qdd, sim.effort, sim.at_limit, sim.limit_torque,
+                                        [sim.time, sim.steps, len(forces)],
+                                        *(np.concatenate([f.point, f.normal, f.force, [f.depth]]) for f in forces)]))
+        runs.append(rows)
+        loop_steps.append(called[0])
+        events.append(sim.take_events())
+    for compiled, stepwise in zip(*runs):
+        np.testing.assert_array_equal(compiled, stepwise)
+    assert events[0] == events[1]
+    assert not stops or any(event.joint == 2 for event in events[0])  # the elbow met its stops
+    assert runs[0][-1][6 * rob.n_dofs + 2] > 0  # it ends touching the box
+    # most steps in the compiled call (a step in contact holding a joint on its stop is the loop's)
+    assert loop_steps[1] == 800 and loop_steps[0] < (800 if stops else 200)
 
 
 @pytest.mark.parametrize("friction", [0.0, 0.5])
