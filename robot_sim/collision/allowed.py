@@ -21,7 +21,7 @@ from collections.abc import Iterable
 import numpy as np
 from numpy.typing import NDArray
 
-from robot_sim.kernels.model import per_robot
+from robot_sim.kernels.model import kernel_array, per_robot
 from robot_sim.kinematics import characteristic_length
 from robot_sim.model.params import JTYPE_REVOLUTE, RobotParams
 from robot_sim.model.shapes import HalfSpace
@@ -132,7 +132,7 @@ def analyse(scene: Scene, padding: float, self_collision: bool,
     if resting:  # touching at home is touching everywhere for these: no sampling
         rows = np.array(resting, dtype=np.int64)
         touch = np.zeros((1, len(rows)), dtype=np.bool_)
-        batch.touching_batch(np.require(robot.q_home[None], float, "CW"), *scene.args(), rows, scene.verts,
+        batch.touching_batch(kernel_array(robot.q_home[None]), *scene.args(), rows, scene.verts,
                              max(padding, 0.0) + 0.0, touch)
         allowed |= {(scene.owner[i], scene.owner[j]) for (i, j), hit in zip(resting, touch[0]) if hit}
     allowed_set = PairSet(allowed)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robot_sim.kernels.model import kernel_array
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.model.shapes import Shape
@@ -107,7 +108,7 @@ class CollisionChecker:
     def _configs(self, q: ArrayLike) -> tuple[FloatArray, bool]:
         Q = check_joint_vector(q, self.robot.n_dofs)
         # C-contiguous and writeable (numba compiles the kernels again for read-only arrays)
-        return np.require(Q.reshape(-1, self.robot.n_dofs), float, "CW"), Q.ndim == 1
+        return kernel_array(Q.reshape(-1, self.robot.n_dofs)), Q.ndim == 1
 
     # ------------------------------------------------------------------ queries
     def in_collision(self, q: ArrayLike) -> bool | NDArray[np.bool_]:
@@ -170,7 +171,7 @@ class CollisionChecker:
         P = pairs.shape[0]
         d, pts, nrm = np.empty(P), np.zeros((P, 2, 3)), np.zeros((P, 3))
         recs = np.empty_like(self._scene.recs0)
-        batch.pair_results(np.require(q, float, "CW"), *self._scene.args(), np.ascontiguousarray(pairs),
+        batch.pair_results(kernel_array(q), *self._scene.args(), np.ascontiguousarray(pairs),
                            self._scene.verts, threshold, d, pts, nrm, recs)
         return d, pts, nrm
 

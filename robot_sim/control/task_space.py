@@ -50,7 +50,7 @@ from robot_sim import dynamics
 from robot_sim.control.controllers import ComputedTorque, Controller, Gains, Integrated, StepContext, control_gains
 from robot_sim.control.task_error import rotation_command, rotation_logs
 from robot_sim.kernels import status
-from robot_sim.kernels.model import compiled_model
+from robot_sim.kernels.model import compiled_model, kernel_array
 from robot_sim.kinematics import characteristic_length, task_rows, tool_kinematics
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
@@ -266,7 +266,7 @@ class OperationalSpace(TaskSpaceController):
             from robot_sim.control import task_space_compiled as tc
 
             _, table, g0 = dynamics.compiled_kernels(self.robot)
-            limits = (np.require(self.robot.q_min, float, "CW"), np.require(self.robot.q_max, float, "CW"))
+            limits = (kernel_array(self.robot.q_min), kernel_array(self.robot.q_max))
             self._step_kernel = (tc.osc_step, table, g0, *self._kernel_parts()[2:], *limits)
         return self._step_kernel
 
@@ -295,7 +295,7 @@ class OperationalSpace(TaskSpaceController):
             self._packed = (desired[0], packed) if fixed else None
         q1, qd1, a1, tau, e = np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(rows.shape[0])
         if self._limit is None or self._limit[0] is not limit:
-            self._limit = (limit, np.require(limit, float, "CW"), bool(np.isfinite(limit).any()))
+            self._limit = (limit, kernel_array(limit), bool(np.isfinite(limit).any()))
         result = kernel(table, g0, self._limit[1], self._limit[2], modified, base, tool, rows, self.weights,
                         step.integrator == "rk4", h, q, qd, *packed, self.posture is not None, self.kp, self.kd,
                         self.eps_inertia, q_min, q_max, q1, qd1, a1, tau, e)

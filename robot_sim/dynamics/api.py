@@ -15,6 +15,7 @@ from robot_sim.dynamics.algebra import FloatArray, Scalar
 from robot_sim.dynamics.recursion import (
     _check_gravity, _crba_terms, _DynModel, _model, _rnea_terms,
 )
+from robot_sim.kernels.model import kernel_array
 from robot_sim.kinematics import forward_kinematics
 from robot_sim.model.params import RobotParams
 
@@ -230,8 +231,8 @@ def _arguments(robot: RobotParams, q: ArrayLike, finite: bool = True, **rates: A
     # C-contiguous and writeable, whatever was given (a robot's read-only q_home, a strided
     # column): numba compiles a kernel again for each other layout or flag
     if q_arr.ndim == 1:
-        return True, [np.require(a.reshape(1, -1), float, "CW") for a in arrays]
-    return False, [np.require(a, float, "CW") for a in arrays]
+        return True, [kernel_array(a)[None] for a in arrays]
+    return False, [kernel_array(a) for a in arrays]
 
 
 # ------------------------------------------------------------------ public API

@@ -76,19 +76,29 @@ class CompiledModel:
 _MODELS: "weakref.WeakKeyDictionary[RobotParams, CompiledModel]" = weakref.WeakKeyDictionary()
 
 
+#: The robot asked for last (a weak reference) and its model: one call after another for
+#: the same robot skips the weak dictionary's lookup (a new weak reference each time).
+_last: tuple[Callable[[], RobotParams | None], CompiledModel | None] = (lambda: None, None)
+
+
 def compiled_model(robot: RobotParams) -> CompiledModel:
     """The compiled model of ``robot`` (built on first use, then shared)."""
+    global _last
+    ref, model = _last
+    if ref() is robot:
+        return model
     model = _MODELS.get(robot)
     if model is None:
         model = _MODELS[robot] = _build(robot)
+    _last = (weakref.ref(robot), model)
     return model
 
 
 def per_robot(robot: RobotParams, key: str, build: Callable[[RobotParams], T]) -> T:
     """Per-robot data of a layer, ``build(robot)`` once, kept with the robot's compiled
     model (``build``'s result must not hold the robot)."""
-    model = _MODELS.get(robot)  # (compiled_model written out: this is on every dynamics call's path)
-    if model is None:
+    ref, model = _last  # (compiled_model written out: this is on every dynamics call's path)
+    if ref() is not robot:
         model = compiled_model(robot)
     found = model._derived.get(key)
     if found is None:
@@ -151,3 +161,12 @@ def _table_model(robot: RobotParams) -> CompiledModel:
         tool=_contiguous(robot.tool_tf.mat),
     )
 
+
+def kernel_array(a: NDArray) -> FloatArray:
+    """``a`` in the one layout every kernel is compiled for: float64, C-contiguous and
+    writeable (numba compiles a kernel again for a read-only array such as a robot's
+    ``q_home``, or a strided one); ``a`` itself when it is so already (a cheaper test
+    than ``np.require``'s, which costs a microsecond a call)."""
+    if a.flags.carray and a.dtype == np.float64:  # C-contiguous, aligned and writeable
+        return a
+    return np.array(a, dtype=np.float64, order="C")
