@@ -22,26 +22,19 @@ import time
 from pathlib import Path
 from typing import Callable
 
+from timing import measure, median_iqr  # benchmarks/ is on sys.path when this script runs
+
 ROOT = Path(__file__).resolve().parents[1]
 REPEATS = 7
 
 
 def _per_call(fn: Callable[[], object], budget: float = 0.05) -> float:
-    """Median seconds per call of ``fn`` over REPEATS repeats of about ``budget`` s each."""
+    """Median seconds per call of ``fn`` over REPEATS runs of about ``budget`` s each."""
     fn()
-    t0, calls = time.perf_counter(), 0
-    while time.perf_counter() - t0 < budget / 4:
-        fn()
-        calls += 1
-    loops = max(1, int(calls * 4 * budget / max(time.perf_counter() - t0, 1e-9) / 4))
-    times = []
-    for _ in range(REPEATS):
-        t0 = time.perf_counter()
-        for _ in range(loops):
-            fn()
-        times.append((time.perf_counter() - t0) / loops)
-    times.sort()
-    return times[REPEATS // 2]
+    t0 = time.perf_counter()
+    fn()
+    number = max(1, int(budget / max(time.perf_counter() - t0, 1e-9)))
+    return median_iqr(measure(fn, REPEATS, number))[0]
 
 
 def rows() -> dict[str, float]:
