@@ -154,6 +154,17 @@ def _model(robot: RobotParams) -> _DynModel:
 # ------------------------------------------------------------------ kernels
 
 
+def _joint_rates(rev: bool, w: Vec, wd: Vec, vd: Vec, qdj: Scalar, qddj: Scalar) -> tuple[Vec, Vec, Vec]:
+    """Add joint j's rate q̇ and acceleration q̈ about (revolute) or along (prismatic) its z
+    axis to the frame's ω, ω̇ and v̇, all in the frame where that axis is z (a prismatic
+    joint's Coriolis term 2 ω × q̇ z included)."""
+    if rev:
+        wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
+        return (w[0], w[1], _add(w[2], qdj)), wd, vd
+    two_qd = _mul(2.0, qdj)
+    return w, wd, (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
+
+
 def _w_matrix(w: Vec, wd: Vec) -> tuple:
     """W = [ω̇]ₓ + [ω]ₓ²: the acceleration of a body-fixed point r relative to the origin is W r."""
     xx, yy, zz = _mul(w[0], w[0]), _mul(w[1], w[1]), _mul(w[2], w[2])
@@ -195,20 +206,10 @@ def _rnea_terms(
             if W_par is not None:
                 vd = _vadd(vd, _matvec(W_par, p))
             w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
-            if rev:
-                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
-                w = (w[0], w[1], _add(w[2], qdj))
-            else:
-                two_qd = _mul(2.0, qdj)
-                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
+            w, wd, vd = _joint_rates(rev, w, wd, vd, qdj, qddj)
             W = _w_matrix(w, wd)
         else:
-            if rev:
-                wd = (_add(wd[0], _mul(w[1], qdj)), _sub(wd[1], _mul(w[0], qdj)), _add(wd[2], qddj))
-                w = (w[0], w[1], _add(w[2], qdj))
-            else:
-                two_qd = _mul(2.0, qdj)
-                vd = (_add(vd[0], _mul(w[1], two_qd)), _sub(vd[1], _mul(w[0], two_qd)), _add(vd[2], qddj))
+            w, wd, vd = _joint_rates(rev, w, wd, vd, qdj, qddj)
             w, wd, vd = (model.to_child(v, j, c, s) for v in (w, wd, vd))
             W = _w_matrix(w, wd)
             vd = _vadd(vd, _matvec(W, p))

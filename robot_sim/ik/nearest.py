@@ -16,9 +16,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from robot_sim.ik.family import GENERAL_6R, solver
 from robot_sim.ik.finish import EVERY_TURN, NEAREST_TURN, RAW, TWO_PI
-from robot_sim.ik.general import general_data, reach
+from robot_sim.ik.general import reach
 from robot_sim.ik.pipeline import MAX_VALUES, nearest_solution, reach_error, run_one
-from robot_sim.ik.solutions import ik_solutions, packed
+from robot_sim.ik.solutions import ik_solutions, packed, unsolved
 from robot_sim.kernels.jit import JIT
 from robot_sim.model.params import RobotParams
 
@@ -32,7 +32,7 @@ def answers(robot: RobotParams, position_only: bool) -> bool:
     for position only, are left to the numerical IK.)"""
     family = solver(robot).family
     if family.name == GENERAL_6R:  # every real root of its polynomial: no closed form, still complete
-        return not position_only and general_data(robot, solver(robot)) is not None
+        return not position_only and unsolved(robot) is None
     if not family.closed_form or family.free_joint is not None:
         return False
     return family.task == ("position" if position_only else "pose")
