@@ -162,7 +162,11 @@ def control(page: Any, label: str) -> Any:
 
 
 def click_at_fraction(page: Any, label: str, fraction: float) -> None:
-    """Click the slider labelled ``label`` at ``fraction`` (0..1) of its track."""
-    box = control(page, label).locator(".mantine-Slider-track").first.bounding_box()
+    """Click the slider labelled ``label`` at ``fraction`` (0..1) of its track, scrolled
+    into view first: a mouse click at page coordinates below the viewport lands nowhere,
+    and the panel's readout above the joints can grow while the page runs."""
+    track = control(page, label).locator(".mantine-Slider-track").first
+    track.scroll_into_view_if_needed()
+    box = track.bounding_box()
     assert box is not None, f"no slider {label!r} on the page"
     page.mouse.click(box["x"] + fraction * box["width"], box["y"] + box["height"] / 2)
