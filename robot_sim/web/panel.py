@@ -37,6 +37,8 @@ NO_JOINT = "none"
 SLIDER_STEP = 0.1
 #: The pick timeline's line: phase, time and length [s].
 PICK_FORMAT = "phase: **{phase}** at {t:.2f} s of {duration:.2f} s"
+#: A widget :meth:`WebPanel.tick` has not written yet.
+_UNSHOWN = object()
 #: Size of the IK gizmo as a fraction of the robot's reach.
 GIZMO_SCALE_FRAC = 0.15
 
@@ -55,6 +57,9 @@ class WebPanel:
         self.on_new_session: Callable[[ViewerSession], None] = lambda session: None
         self._gizmo: Any = None
         self._dragging = False
+        #: Per widget (by id): the value :meth:`tick` last put there or a handler last took
+        #: from the page (:meth:`_show`, :meth:`_taken`).
+        self._shown: dict[int, Any] = {}
         self._build()
 
     @property
@@ -117,6 +122,7 @@ class WebPanel:
         session = self.session
         robot = session.robot
         for handle in [*self.sliders, *self.cells.values()]:
+            self._shown.pop(id(handle), None)
             handle.remove()
         self.sliders, self.cells = [], {}
         lo, hi = display_range(robot)
@@ -173,7 +179,7 @@ class WebPanel:
     def _slider_moved(self, event: Any, index: int) -> None:
         if event.client is None:
             return
-        value = self._number(event.target.value, event.target.min, event.target.max)
+        value = self._number(self._taken(event), event.target.min, event.target.max)
         if value is not None:
             self.session.set_joint(index, value / float(display_scale(self.session.robot)[index]))
 
@@ -264,13 +270,13 @@ class WebPanel:
     def _motion_chosen(self, event: Any) -> None:
         if event.client is None:
             return
+        mode = self._taken(event)
         try:
-            self.session.set_motion(event.target.value)
-        except ValueError as exc:  # e.g. dynamics refusing the robot's data
-            self.say(f"motion {event.target.value}: {exc}")
-            self.motion_box.value = self._mode()
+            self.session.set_motion(mode)
+        except ValueError as exc:  # e.g. dynamics refusing the robot's data; the tick shows the mode kept
+            self.say(f"motion {mode}: {exc}")
             return
-        self.say(f"motion: {event.target.value}")
+        self.say(f"motion: {mode}")
 
     def _mode(self) -> str:
         return self.session.driver.mode
@@ -304,7 +310,7 @@ class WebPanel:
 
     @guarded
     def _collision_toggled(self, event: Any) -> None:
-        if event.client is not None and bool(event.target.value) != self.session.options.show_collision:
+        if event.client is not None and bool(self._taken(event)) != self.session.options.show_collision:
             self.session.toggle_collision()
 
     @guarded
@@ -314,7 +320,7 @@ class WebPanel:
 
     @guarded
     def _target_toggled(self, event: Any) -> None:
-        if event.client is not None and bool(event.target.value) != (self.session.target_tf is not None):
+        if event.client is not None and bool(self._taken(event)) != (self.session.target_tf is not None):
             self.session.toggle_target()
 
     @guarded
@@ -345,7 +351,7 @@ class WebPanel:
     def _pick_scrubbed(self, event: Any) -> None:
         if event.client is None or self.session.pick is None:
             return
-        t = self._number(event.target.value, 0.0, self.session.pick.duration)
+        t = self._number(self._taken(event), 0.0, self.session.pick.duration)
         if t is not None:
             self.session.pick.playing = False
             self.session.show_pick_at(t)
@@ -378,18 +384,39 @@ class WebPanel:
             self.rebuild()
         values = wrap_display(robot, session.state.q())
         for slider, value in zip(self.sliders, values):
-            slider.value = float(np.clip(round(float(value), 6), slider.min, slider.max))
+            self._show(slider, float(np.clip(round(float(value), 6), slider.min, slider.max)))
         self._sync_gizmo()
-        self.target_box.value = session.target_tf is not None
-        self.collision_box.value = session.options.show_collision
-        self.motion_box.value = self._mode()
+        self._show(self.target_box, session.target_tf is not None)
+        self._show(self.collision_box, session.options.show_collision)
+        self._show(self.motion_box, self._mode())
         pick = session.pick
         self.pick_folder.visible = pick is not None
         if pick is not None:
             self.pick_time.max = float(pick.duration)
-            self.pick_time.value = float(min(pick.time, pick.duration))
+            self._show(self.pick_time, float(min(pick.time, pick.duration)))
             self.pick_phase.content = PICK_FORMAT.format(phase=pick.plan.phase_at(pick.time), t=pick.time, duration=pick.duration)
         self.readout.content = "```\n" + session_readout(session) + "\n" + session.status_text("web") + "\n```"
+
+    def _show(self, widget: Any, value: Any) -> None:
+        """Put the session's ``value`` in ``widget``, unless the widget holds a value the page
+        sent that no handler has taken yet (:meth:`_taken`).  viser stores the page's value
+        in the widget, then runs the handler on another thread: writing the session's
+        older value over it first would make the handler see no change, and the page's
+        click would be lost."""
+        shown = self._shown.get(id(widget), _UNSHOWN)
+        if shown is not _UNSHOWN and widget.value != shown:
+            return  # the page's value, waiting for its handler
+        if shown is _UNSHOWN or value != shown:
+            widget.value = value
+            self._shown[id(widget)] = value
+
+    def _taken(self, event: Any) -> Any:
+        """The value the page sent in ``event``'s widget, marked as taken: from now on
+        :meth:`tick` shows the session's value there again (the page's, if it was applied;
+        the one before it, if it was refused)."""
+        value = event.target.value
+        self._shown[id(event.target)] = value
+        return value
 
     def _sync_gizmo(self) -> None:
         target = self.session.target_tf

@@ -302,3 +302,40 @@ def test_the_panel_buttons_cycle_and_draw_the_ik_branches_as_keys_b_and_shift_b(
         assert len(labels) == len(twin.branches.solutions) >= 2
     finally:
         viewer.close()
+
+
+def test_a_value_the_page_sent_survives_a_tick_before_its_handler_runs() -> None:
+    """viser stores a page's new value in the widget, then runs the handler on another
+    thread; the server's tick may run in between.  It must not put the session's old value
+    back (the handler would then see no change and the click would be lost, as a loaded
+    machine showed in the browser tests), yet it still shows a change of the session."""
+    from types import SimpleNamespace
+
+    from robot_sim.web.serve import WebViewer
+
+    viewer = WebViewer(ViewerSession(load_robot("puma560")), "puma560", host="127.0.0.1", port=None)
+    panel, session = viewer.panel, viewer.backend.session
+    try:
+        panel.tick()
+        panel.target_box.value = True  # what the page sent, its handler not yet run
+        panel.sliders[0].value = 40.0
+        panel.tick()
+        assert panel.target_box.value is True and panel.sliders[0].value == 40.0
+        page = object()
+        panel._target_toggled(SimpleNamespace(client=page, target=panel.target_box))
+        panel._slider_moved(SimpleNamespace(client=page, target=panel.sliders[0]), 0)
+        assert session.target_tf is not None
+        assert session.state.q_des()[0] == pytest.approx(np.radians(40.0))
+        session.toggle_target()  # the session changes on its own (a key, another page): shown
+        panel.tick()
+        assert panel.target_box.value is False
+        shown = panel.sliders[0].value
+        panel.sliders[0].value = 170.0  # beyond the slider's range: refused, then the session's value shown
+        panel.tick()
+        assert panel.sliders[0].value == 170.0  # not yet handled
+        panel._slider_moved(SimpleNamespace(client=page, target=panel.sliders[0]), 0)
+        assert panel.message == "expected a number in -160..160, got '170.0'"
+        panel.tick()
+        assert panel.sliders[0].value == shown
+    finally:
+        viewer.close()
