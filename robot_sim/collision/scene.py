@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robot_sim.kernels import chain
-from robot_sim.kernels.model import compiled_model
+from robot_sim.kernels.model import compiled_model, kernel_array
 from robot_sim.model.params import RobotParams
 from robot_sim.model.shapes import Shape
 from robot_sim.model.world import World
@@ -88,7 +88,7 @@ def build_scene(robot: RobotParams, world: World) -> Scene:
 def frames(scene: Scene, q: FloatArray) -> FloatArray:
     """World frames 0..n (n + 1, 4, 4) at q (n,), from the compiled chain."""
     F = np.empty((scene.robot.n_dofs + 1, 3, 4))
-    chain.frames(scene.dh, scene.robot.is_modified, scene.world0, q, F)
+    chain.frames(scene.dh, scene.robot.is_modified, scene.world0, kernel_array(q), F)
     out = np.zeros((F.shape[0], 4, 4))
     out[:, :3, :] = F
     out[:, 3, 3] = 1.0

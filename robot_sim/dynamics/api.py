@@ -302,7 +302,7 @@ def computed_torque(
         model = _model(robot)
         kernels, table = model.compiled()
         tau, qdd_ref = np.empty(Q.shape), np.empty(Q.shape)
-        KP, KD = (np.ascontiguousarray(g[:, 0]) for g in gains)
+        KP, KD = (kernel_array(g[:, 0]) for g in gains)  # a column of a broadcast is read-only
         kernels.ct_batch(table, Q, QD, QDES, QDDES, QDDDES, KP, KD, model.gravity_array(robot, gravity), tau, qdd_ref)
     else:
         qdd_ref = QDDDES + gains[0] * (QDES - Q) + gains[1] * (QDDES - QD)

@@ -32,7 +32,6 @@ from robot_sim.kernels.model import (
     SWX, SWY, SWZ, TH, VISC, A, D,
 )
 
-_NO_HELD = np.zeros(1, dtype=np.bool_)  # "no held joints" (read only when use_held)
 
 
 
@@ -381,7 +380,8 @@ def fd_vec(P, q, qd, tau, g0, qdd):
         return False
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
-    fd_one(P, modified, q, qd, tau, g0, O[0], False, _NO_HELD, False, qdd, zero, zero, bias, M, O, CS, F, NM)
+    no_held = np.zeros(1, dtype=np.bool_)  # not a global: numba would freeze it read-only, another signature of fd_one
+    fd_one(P, modified, q, qd, tau, g0, O[0], False, no_held, False, qdd, zero, zero, bias, M, O, CS, F, NM)
     return True
 
 
@@ -433,9 +433,10 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     n = P.shape[0]
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
+    no_held = np.zeros(1, dtype=np.bool_)
     finite = True
     for i in range(Q.shape[0]):
-        fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, _NO_HELD, False, QDD[i], zero, zero,
+        fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, no_held, False, QDD[i], zero, zero,
                 bias, M, O, CS, F, NM)
         finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(TAU[i])
     return finite

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from robot_sim import dynamics
 from robot_sim.dynamics import GRAVITY, computed_torque, constrained_forward_dynamics, forward_dynamics
 from robot_sim.kernels import status
+from robot_sim.kernels.model import kernel_array
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -185,8 +186,9 @@ class Stepper:
         h = self.dt if dt is None else float(dt)
         out = self._result
         if dynamics.backend() == "compiled":
-            self._kernels.step_batch(
-                self._table, self.method == "rk4", h, q, qd, tau, A1, known, self._g0, active,
+            self._kernels.step_batch(  # one layout of each array, one machine code (kernel_array)
+                self._table, self.method == "rk4", h, kernel_array(q), kernel_array(qd), kernel_array(tau),
+                kernel_array(A1), known, self._g0, active,
                 self._no_held if held is None else held, held is not None, stops, out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
             )
         else:
@@ -228,7 +230,7 @@ class Stepper:
         if dynamics.backend() == "compiled":
             self._kernels.ct_step_batch(
                 self._table, self.method == "rk4", self.dt, q, qd, q_des, qd_des, qdd_des, self._kp, self._kd,
-                np.asarray(effort_limit, dtype=float), self._g0, active, stops, out.command, out.effort, out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
+                kernel_array(np.asarray(effort_limit)), self._g0, active, stops, out.command, out.effort, out.q, out.qd, out.qdd, out.reaction, out.at_limit, out.status,
             )
             return out
         command, qdd_ref = computed_torque(
@@ -282,7 +284,8 @@ class Stepper:
         taken = self._kernels.run_steps(
             self._table, self.method == "rk4", self.dt, n_steps, getattr(self._kernels, "LAW_" + law.upper()),
             np.ascontiguousarray(kp, dtype=float), np.ascontiguousarray(kd, dtype=float), q_des, qd_des, qdd_des,
-            effort_limit, velocity_limit, self._g0, stops, *out, on_limit, at_limit, reaction, recorded, contact,
+            kernel_array(effort_limit), kernel_array(velocity_limit), self._g0, stops, *out, on_limit, at_limit, reaction,
+            recorded, contact,
         )
         return taken, out, ((at_limit.copy(), reaction.copy()) if recorded[0] else None)
 
