@@ -16,17 +16,17 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 .PHONY: test test-full run bench pictures setup system-deps clean
 
 # The default suite: every test but the slow parts of the robot and start sweeps.  Its
-# pytest runs go side by side, one a core: the headless tests (OSMesa) in front (one process:
-# in two pytest-xdist workers the browser tests' page events went unanswered in 2 of 6
-# fresh runs), the real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
+# pytest runs go side by side: the headless tests (OSMesa) in front, in two pytest-xdist
+# workers (one a core; a test file stays on one worker, its module fixtures built once), the
+# real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
 # the headless one.  A kernel is compiled by one process only (tests/compile_lock.py).
 # Fails when either fails.
 test: setup
 	@log=$$(mktemp); \
 	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider >$$log 2>&1 & window=$$!; \
 	trap 'kill $$window 2>/dev/null; rm -f $$log' INT TERM; \
-	echo "headless tests (OSMesa); the window tests run meanwhile under xvfb-run"; \
-	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q; headless=$$?; \
+	echo "headless tests (OSMesa, two workers); the window tests run meanwhile under xvfb-run"; \
+	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -n 2 --dist loadfile; headless=$$?; \
 	wait $$window; windowed=$$?; \
 	echo "window tests (xvfb-run, pytest -m window):"; cat $$log; rm -f $$log; \
 	test $$headless -eq 0 && test $$windowed -eq 0

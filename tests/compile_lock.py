@@ -1,7 +1,7 @@
 """One compile per kernel for the whole suite, however many processes run it.
 
-``make test`` runs the suite in several processes at once (the headless tests in one
-process, the window tests beside it).  On a fresh clone numba's on-disk
+``make test`` runs the suite in several processes at once (the headless tests in two
+pytest-xdist workers, the window tests beside them).  On a fresh clone numba's on-disk
 cache is empty, and numba has no lock between processes: every process that reaches a
 kernel before another has saved it compiles it again (tens of seconds of CPU for the
 dynamics and collision kernels).  :func:`install` makes each process take an exclusive
