@@ -99,7 +99,7 @@ def _inverse(T: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(**JIT)
-def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
     """Poses start..stop-1: the family's kernel for each free value (row v of gf is
     packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
@@ -157,18 +157,23 @@ def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode:
 
 
 @numba.njit(**JIT)
-def _pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+def pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray,
            out: np.ndarray, out_code: np.ndarray, out_exact: np.ndarray, out_count: np.ndarray) -> None:
-    """Poses start..stop-1: :func:`robot_sim.ik.finish.expand` into out[i] (W, n)."""
+    """Poses start..stop-1: :func:`robot_sim.ik.finish.expand` into out[i] (W, n), the rows
+    after its solutions padded (NaN, code -1, not exact)."""
     _, _, _, lo, hi, revf = _whole(gf, gi)
     W, n = out.shape[1], out.shape[2]
     work, dist = np.empty((W, n)), np.empty(W)
     source, order, spare = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
     digit, ways, first = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n)
     for i in range(start, stop):
-        out_count[i] = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i],
-                              out_exact[i], work, dist, source, order, spare, digit, ways, first)
+        k = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i], out_exact[i],
+                   work, dist, source, order, spare, digit, ways, first)
+        out[i, k:, :] = np.nan  # the padding
+        out_code[i, k:] = -1
+        out_exact[i, k:] = False
+        out_count[i] = k
 
 
 @numba.njit(**JIT)
@@ -180,41 +185,53 @@ def _q0_finite(q0: np.ndarray) -> bool:
 
 
 @numba.njit(**JIT)
-def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
-    """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
-    turns ``mode`` asks (RAW, EVERY_TURN or NEAREST_TURN of :mod:`robot_sim.ik.finish`).  Returns
-    (q, code, exact, count, needed, bad): q (N, K, n) NaN-padded, nearest q0 first;
-    ``needed`` = N·K·n, and empty arrays when it exceeds :data:`MAX_VALUES`; ``bad`` the
-    index of the first pose that is not a rigid transform (:data:`RIGID_TOL`), or
-    :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved), else -1.
-    Each pose goes through the same code as in :func:`run_one`."""
-    n = gi[9]
-    N = Ts.shape[0]
+def begin(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray) -> tuple:
+    """The checks of :func:`run` and pass 1's arrays: (bad, raw, code, count, exact,
+    total), the arrays empty (K = 0) when ``bad`` is not -1.  Every entry pass 1 reads
+    it writes first, so none is filled here."""
+    n, N = gi[9], Ts.shape[0]
     bad = first_bad_pose(Ts, RIGID_TOL)
     if bad < 0 and not _q0_finite(q0):
         bad = BAD_Q0
-    if bad != -1:
-        return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
-                np.zeros(N, dtype=np.int64), 0, bad)
-    K = BRANCH_COUNTS[gi[0]] * gf.shape[0]
-    raw = np.full((N, K, n), np.nan)
-    code = np.zeros((N, K), dtype=np.int64)
-    count = np.zeros(N, dtype=np.int64)
-    exact = np.zeros((N, K), dtype=np.bool_)
-    total = np.zeros(N, dtype=np.int64)
-    _pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
-    width = 0
+    K = BRANCH_COUNTS[gi[0]] * gf.shape[0] if bad == -1 else 0
+    return (bad, np.empty((N, K, n)), np.empty((N, K), dtype=np.int64), np.zeros(N, dtype=np.int64),
+            np.empty((N, K), dtype=np.bool_), np.zeros(N, dtype=np.int64))
+
+
+@numba.njit(**JIT)
+def outputs(total: np.ndarray, n: int) -> tuple:
+    """Pass 2's arrays (out, out_code, out_exact, out_count) for the solutions counted in
+    ``total``, and ``needed`` = N·K·n; with ``needed`` above :data:`MAX_VALUES` nothing is
+    allocated (K = 0).  Pass 2 writes every entry, padding included."""
+    N, width = total.shape[0], 0
     for i in range(N):
         width = max(width, total[i])
     needed = N * width * n
     if needed > MAX_VALUES:
-        return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
-                total, needed, -1)
-    out = np.full((N, width, n), np.nan)
-    out_code = np.full((N, width), -1, dtype=np.int64)
-    out_exact = np.zeros((N, width), dtype=np.bool_)
-    out_count = np.zeros(N, dtype=np.int64)
-    _pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)
+        width = 0
+    return (np.empty((N, width, n)), np.empty((N, width), dtype=np.int64), np.empty((N, width), dtype=np.bool_),
+            np.zeros(N, dtype=np.int64), needed)
+
+
+@numba.njit(**JIT)
+def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
+    """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
+    turns ``mode`` asks (RAW, EVERY_TURN or NEAREST_TURN of :mod:`robot_sim.ik.finish`).  Returns
+    (q, code, exact, count, needed, bad): q (N, K, n) NaN-padded, nearest q0 first;
+    ``needed`` = N·K·n, and empty arrays (K = 0) when it exceeds :data:`MAX_VALUES`; ``bad`` the
+    index of the first pose that is not a rigid transform (:data:`RIGID_TOL`), or
+    :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved and
+    count is 0), else -1.  One thread; :func:`robot_sim.ik.threads.run_threads` runs
+    the same passes on chunks of the poses."""
+    bad, raw, code, count, exact, total = begin(gf, gi, Ts, q0)
+    if bad != -1:
+        return raw[:, :0], code, exact, count, 0, bad
+    N = Ts.shape[0]
+    pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
+    out, out_code, out_exact, out_count, needed = outputs(total, gi[9])
+    if needed > MAX_VALUES:
+        return out, out_code, out_exact, total, needed, -1
+    pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)
     return out, out_code, out_exact, out_count, needed, -1
 
 
@@ -222,7 +239,7 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
 def run_one(gf: np.ndarray, gi: np.ndarray, T: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
     """:func:`run` of the one pose T (4, 4): (q (k, n), code (k,), exact (k,), needed, bad)."""
     q, code, exact, count, needed, bad = run(gf, gi, T.reshape((1, 4, 4)), q0, mode)
-    if q.shape[0] == 0:  # not solved
+    if q.shape[1] == 0:  # not solved, or no solution
         return np.empty((0, q.shape[2])), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.bool_), needed, bad
     k = count[0]
     return q[0, :k], code[0, :k], exact[0, :k], needed, bad
