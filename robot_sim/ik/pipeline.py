@@ -185,32 +185,44 @@ def _q0_finite(q0: np.ndarray) -> bool:
 
 
 @numba.njit(**JIT)
-def begin(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray) -> tuple:
-    """The checks of :func:`run` and pass 1's arrays: (bad, raw, code, count, exact,
-    total), the arrays empty (K = 0) when ``bad`` is not -1.  Every entry pass 1 reads
-    it writes first, so none is filled here."""
-    n, N = gi[9], Ts.shape[0]
+def begin(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray) -> tuple[int, int]:
+    """The checks of :func:`run`: (bad, K), K the raw branches per pose (0 when ``bad`` is
+    not -1)."""
     bad = first_bad_pose(Ts, RIGID_TOL)
     if bad < 0 and not _q0_finite(q0):
         bad = BAD_Q0
-    K = BRANCH_COUNTS[gi[0]] * gf.shape[0] if bad == -1 else 0
-    return (bad, np.empty((N, K, n)), np.empty((N, K), dtype=np.int64), np.zeros(N, dtype=np.int64),
+    return bad, BRANCH_COUNTS[gi[0]] * gf.shape[0] if bad == -1 else 0
+
+
+def pass1_arrays(N: int, K: int, n: int) -> tuple:
+    """Pass 1's arrays (raw, code, count, exact, total) for N poses of K raw branches of n
+    joints; pass 1 writes every entry it reads, so none is filled.  Plain Python, so that
+    a batch from Python gets NumPy's arrays (on huge pages: a tenth of the page faults),
+    and compiled as :func:`_pass1_arrays` for :func:`run`."""
+    return (np.empty((N, K, n)), np.empty((N, K), dtype=np.int64), np.zeros(N, dtype=np.int64),
             np.empty((N, K), dtype=np.bool_), np.zeros(N, dtype=np.int64))
 
 
-@numba.njit(**JIT)
-def outputs(total: np.ndarray, n: int) -> tuple:
-    """Pass 2's arrays (out, out_code, out_exact, out_count) for the solutions counted in
-    ``total``, and ``needed`` = N·K·n; with ``needed`` above :data:`MAX_VALUES` nothing is
-    allocated (K = 0).  Pass 2 writes every entry, padding included."""
-    N, width = total.shape[0], 0
-    for i in range(N):
-        width = max(width, total[i])
-    needed = N * width * n
-    if needed > MAX_VALUES:
-        width = 0
+def pass2_arrays(N: int, width: int, n: int) -> tuple:
+    """Pass 2's arrays (out, out_code, out_exact, out_count); pass 2 writes every entry,
+    padding included.  Plain Python as :func:`pass1_arrays`, compiled as :func:`_pass2_arrays`."""
     return (np.empty((N, width, n)), np.empty((N, width), dtype=np.int64), np.empty((N, width), dtype=np.bool_),
-            np.zeros(N, dtype=np.int64), needed)
+            np.zeros(N, dtype=np.int64))
+
+
+_pass1_arrays = numba.njit(**JIT)(pass1_arrays)
+_pass2_arrays = numba.njit(**JIT)(pass2_arrays)
+
+
+@numba.njit(**JIT)
+def width(total: np.ndarray, n: int) -> tuple[int, int]:
+    """(W, needed): the most solutions of a pose in ``total`` and needed = N·W·n, W = 0
+    when ``needed`` exceeds :data:`MAX_VALUES` (nothing is allocated then)."""
+    W = 0
+    for i in range(total.shape[0]):
+        W = max(W, total[i])
+    needed = total.shape[0] * W * n
+    return (0 if needed > MAX_VALUES else W), needed
 
 
 @numba.njit(**JIT)
@@ -221,14 +233,16 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
     ``needed`` = N·K·n, and empty arrays (K = 0) when it exceeds :data:`MAX_VALUES`; ``bad`` the
     index of the first pose that is not a rigid transform (:data:`RIGID_TOL`), or
     :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved and
-    count is 0), else -1.  One thread; :func:`robot_sim.ik.threads.run_threads` runs
-    the same passes on chunks of the poses."""
-    bad, raw, code, count, exact, total = begin(gf, gi, Ts, q0)
+    count is 0), else -1.  In this thread; :func:`robot_sim.ik.threads.run_threads` runs
+    the same passes on chunks of a large batch."""
+    N, n = Ts.shape[0], gi[9]
+    bad, K = begin(gf, gi, Ts, q0)
+    raw, code, count, exact, total = _pass1_arrays(N, K, n)
     if bad != -1:
-        return raw[:, :0], code, exact, count, 0, bad
-    N = Ts.shape[0]
+        return raw, code, exact, count, 0, bad
     pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
-    out, out_code, out_exact, out_count, needed = outputs(total, gi[9])
+    W, needed = width(total, n)
+    out, out_code, out_exact, out_count = _pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1
     pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)

@@ -17,7 +17,7 @@ from typing import Callable
 
 import numpy as np
 
-from robot_sim.ik.pipeline import MAX_VALUES, begin, outputs, pass1, pass2, run
+from robot_sim.ik.pipeline import MAX_VALUES, begin, pass1, pass1_arrays, pass2, pass2_arrays, run, width
 
 #: Batches of at least this many poses are split over threads (a thread costs tens of µs).
 PARALLEL_POSES = 2000
@@ -41,6 +41,9 @@ def each_chunk(work: Callable[[int, int], None], N: int, threads: int) -> None:
         for start in starts:
             work(start, min(start + size, N))
 
+    if threads < 2:
+        worker()
+        return
     with ThreadPoolExecutor(threads - 1) as pool:
         helpers = [pool.submit(worker) for _ in range(threads - 1)]
         worker()
@@ -50,18 +53,20 @@ def each_chunk(work: Callable[[int, int], None], N: int, threads: int) -> None:
 
 def run_threads(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int,
                 threads: int | None = None, min_poses: int | None = None) -> tuple:
-    """:func:`robot_sim.ik.pipeline.run` (same arguments, same answer) in ``threads``
-    threads (default: one per core) when Ts holds at least ``min_poses`` poses (default
-    :data:`PARALLEL_POSES`)."""
+    """:func:`robot_sim.ik.pipeline.run` (same arguments, same answer) for Ts of at least
+    ``min_poses`` poses (default :data:`PARALLEL_POSES`), in ``threads`` threads (default:
+    one per core), with NumPy's arrays (on huge pages where the system grants them)."""
     threads = cores() if threads is None else threads
-    N = Ts.shape[0]
-    if threads < 2 or N < (PARALLEL_POSES if min_poses is None else min_poses):
+    N, n = Ts.shape[0], gi[9]
+    if N < (PARALLEL_POSES if min_poses is None else min_poses):
         return run(gf, gi, Ts, q0, mode)
-    bad, raw, code, count, exact, total = begin(gf, gi, Ts, q0)
+    bad, K = begin(gf, gi, Ts, q0)
+    raw, code, count, exact, total = pass1_arrays(N, K, n)
     if bad != -1:
         return raw, code, exact, count, 0, bad
     each_chunk(lambda a, b: pass1(gf, gi, Ts, q0, mode, a, b, raw, code, count, exact, total), N, threads)
-    out, out_code, out_exact, out_count, needed = outputs(total, gi[9])
+    W, needed = width(total, n)
+    out, out_code, out_exact, out_count = pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1
     each_chunk(lambda a, b: pass2(gf, gi, q0, mode, a, b, raw, code, count, exact, out, out_code, out_exact,
