@@ -113,26 +113,28 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
-    sub_cs = np.empty((K, 2 * m))
+    sub_cs = np.full((K, 2 * m), np.nan)  # the pose solvers write every row they return, the others none
     sub_code = np.zeros(K, dtype=np.int64)
-    cs = np.empty((K * V, 2 * n))
+    cs = np.full((K * V, 2 * n), np.nan)  # a free joint's columns stay NaN: fk_error turns by its value
     err = np.empty(K * V)
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
     Tinv = np.empty((4, 4))
+    row = gf[0]  # views made once: each view of an array costs two atomic reference counts
+    Hs, Ps, Ms = _chain(row, _FHEAD, m)
+    A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
     for i in range(start, stop):
         T = Ts[i]
         if rev_chain:
-            _inverse(Ts[i], Tinv)
+            _inverse(T, Tinv)
             T = Tinv
         got_all = 0
         for v in range(V):
-            row = gf[v]
-            Hs, Ps, Ms = _chain(row, _FHEAD, m)
-            A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
-            sub[:, :] = np.nan
-            sub_cs[:, :] = np.nan
+            if V > 1:
+                row = gf[v]
+                Hs, Ps, Ms = _chain(row, _FHEAD, m)
+                A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
             if kind == SPHERICAL_WRIST:
                 got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == THREE_PARALLEL:
@@ -143,7 +145,6 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                 got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
             for k in range(got):
                 at = got_all + k
-                cs[at, :] = np.nan
                 for j in range(m):
                     raw[i, at, keep[j]] = sub[k, j]
                     cs[at, 2 * keep[j]] = sub_cs[k, 2 * j]
