@@ -171,9 +171,11 @@ def pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int,
     for i in range(start, stop):
         k = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i], out_exact[i],
                    work, dist, source, order, spare, digit, ways, first)
-        out[i, k:, :] = np.nan  # the padding
-        out_code[i, k:] = -1
-        out_exact[i, k:] = False
+        for a in range(k, W):  # the padding (by index: a view of a row costs two atomic reference counts)
+            for j in range(n):
+                out[i, a, j] = np.nan
+            out_code[i, a] = -1
+            out_exact[i, a] = False
         out_count[i] = k
 
 
