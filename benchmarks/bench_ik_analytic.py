@@ -4,8 +4,8 @@ baseline measured in the same run, alternated, and whether the floor is met:
 * one pose from Python (at most 10 µs on UR5, PUMA 560 and KR 6), against EAIK and
   ik-geo on the same arm's bare DH table when they are installed
   (``benchmarks/compare_analytic_ik.py``; oracles, never dependencies);
-* a batch of 10⁵ poses (at most 1 µs of wall time per pose), against the same poses
-  solved one at a time from Python;
+* a batch of 10⁵ poses (at most 1 µs of wall time per pose, on one thread per core:
+  :mod:`robot_sim.ik.threads`), against the same poses solved one at a time from Python;
 * ``solve_ik`` (at least 50× faster than its numerical path) and the default UR5 pick
   task (at most a quarter of the time), against the same code with the closed form
   switched off (``answers`` patched to False)."""
@@ -20,6 +20,7 @@ import numpy as np
 import robot_sim.ik.nearest as nearest
 import robot_sim.planning.pose_goal as pose_goal
 from robot_sim.ik.solutions import ik_solutions
+from robot_sim.ik.threads import cores
 from robot_sim.io.robot_file import load_robot
 from robot_sim.kinematics import forward_kinematics, random_configurations, solve_ik
 from robot_sim.planning.pick_task import default_task, plan_pick
@@ -105,7 +106,7 @@ def bench_ik_analytic(table, median_iqr, ms, us) -> None:  # noqa: ANN001
         med, iqr = median_iqr(walls)
         single = float(np.median(singles))
         table.add(f"analytic IK {name}, batch of 10^5 poses ({'within limits' if within else 'raw branches'}), "
-                  f"wall per pose (CPU {us(median_iqr(cpus)[0])})",
+                  f"wall per pose on {cores()} threads (CPU of all threads {us(median_iqr(cpus)[0])})",
                   us(med), us(iqr), f"one at a time {us(single)}", f"{single / med:.1f}×",
                   f"≤ 1 µs: {verdict(med <= 1e-6)}")
     for name in ONE_POSE:

@@ -29,7 +29,7 @@ import numba
 import numpy as np
 
 from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn, turn_cs
-from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp2, sp3, sp4, sub
+from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
 from robot_sim.kernels.jit import JIT
 
 SPHERICAL_WRIST, THREE_PARALLEL, PARALLEL_AXES, POSITION_ONLY = range(4)
@@ -90,15 +90,13 @@ def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: 
     # h_5 = ±h_3 and h_4 ⟂ h_3 (a ZYZ wrist): R_3(q4 + π) R_4(−q5) R_5(q6 + π) = R_3(q4) R_4(q5) R_5(q6),
     # since R_3(π) turns h_4 into −h_4 and R_3(π) R_5(π) = I; the second wrist follows from the first
     zyz = norm(cross(h3, h5)) < ALIGNED and abs(dot(h3, h4)) < ALIGNED
-    for k, (q4, q5) in enumerate(((-m4a, q5a), (-m4b, q5b))):
+    for k, (m4, (q5, c5, s5)) in enumerate(((m4a, q5a), (m4b, q5b))):
+        q4, c4, s4 = -m4[0], m4[1], -m4[2]
         if k == 1 and zyz:
             q4, q5, q6 = out[n, 3] + math.pi, -out[n, 4], out[n, 5] + math.pi
             c4, s4, c5, s5, c6, s6 = -cs[n, 6], -cs[n, 7], cs[n, 8], -cs[n, 9], -cs[n, 10], -cs[n, 11]
         else:
-            c4, s4 = cos_sin(q4)
-            c5, s5 = cos_sin(q5)
-            q6 = sp1(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
-            c6, s6 = cos_sin(q6)
+            q6, c6, s6 = sp1_cs(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
         out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
         out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
         code[n + k] = bits | wrist_bit(H, c4, s4, c5, s5)
@@ -121,8 +119,9 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
         c0, s0 = cos_sin(q[0])
         c1, s1 = cos_sin(q[1])
         bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
-        c0, s0 = cos_sin(q[0], rev[0] != 0)  # (R_0 R_1 R_2)ᵀ: the arm's turn undone
-        c1, s1 = cos_sin(q[1], rev[1] != 0)
+        if rev[0] == 0 or rev[1] == 0:  # (R_0 R_1 R_2)ᵀ: the arm's turn undone (a slide does not turn)
+            c0, s0 = cos_sin(q[0], rev[0] != 0)
+            c1, s1 = cos_sin(q[1], rev[1] != 0)
         c2, s2 = cos_sin(q[2], rev[2] != 0)
         w6 = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, r6)))
         wx = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, rx)))
@@ -150,10 +149,10 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
         back = rmul(M, rtmul(T, rot_cs(h0, c1, s1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
         for q5 in (t5a, t5b):
             c5, s5 = cos_sin(q5)
-            q6 = -sp1(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
-            c6, s6 = cos_sin(q6)
+            m6, c6, s6 = sp1_cs(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
+            q6, s6 = -m6, -s6
             v = rot_cs(h0, c1, -s1, rmul(T, rtmul(M, rot_cs(h5, c6, -s6, rot_cs(h4, c5, -s5, x1)))))
-            total = sp1(h1, x1, v, q0[1] + g2 * q0[2] + g3 * q0[3])
+            total, ct, st = sp1_cs(h1, x1, v, q0[1] + g2 * q0[2] + g3 * q0[3])
             # y = E_0⁻¹ T M⁻¹ E_5⁻¹ E_4⁻¹ p3, the point on axis 3 that joints 1 and 2 must reach
             z = turn_cs(h5, p5, c6, -s6, turn_cs(h4, p4, c5, -s5, p3))
             z = rtmul(M, sub(z, (M[0, 3], M[1, 3], M[2, 3])))
@@ -162,11 +161,11 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
             t3a, t3b, _, _ = sp3(h2, a3, b3, norm(perp(h1, sub(y, p1))))
             for q3 in (t3a, t3b):
                 c3, s3 = cos_sin(q3)
-                q2 = sp1(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
+                q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
                 q4 = g3 * (total - q2 - g2 * q3)
                 out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
-                c2, s2 = cos_sin(q2)
-                c4, s4 = cos_sin(q4)
+                c, s = ct * c2 + st * s2, st * c2 - ct * s2  # of total - q2, then less g2 q3
+                c4, s4 = c * c3 + g2 * s * s3, g3 * (s * c3 - g2 * c * s3)
                 code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c4, s4, c5, s5)
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6

@@ -99,7 +99,7 @@ def _inverse(T: np.ndarray, out: np.ndarray) -> None:
 
 
 @numba.njit(**JIT)
-def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
     """Poses start..stop-1: the family's kernel for each free value (row v of gf is
     packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
@@ -113,26 +113,28 @@ def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode:
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
-    sub_cs = np.empty((K, 2 * m))
+    sub_cs = np.full((K, 2 * m), np.nan)  # the pose solvers write every row they return, the others none
     sub_code = np.zeros(K, dtype=np.int64)
-    cs = np.empty((K * V, 2 * n))
+    cs = np.full((K * V, 2 * n), np.nan)  # a free joint's columns stay NaN: fk_error turns by its value
     err = np.empty(K * V)
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
     Tinv = np.empty((4, 4))
+    row = gf[0]  # views made once: each view of an array costs two atomic reference counts
+    Hs, Ps, Ms = _chain(row, _FHEAD, m)
+    A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
     for i in range(start, stop):
         T = Ts[i]
         if rev_chain:
-            _inverse(Ts[i], Tinv)
+            _inverse(T, Tinv)
             T = Tinv
         got_all = 0
         for v in range(V):
-            row = gf[v]
-            Hs, Ps, Ms = _chain(row, _FHEAD, m)
-            A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
-            sub[:, :] = np.nan
-            sub_cs[:, :] = np.nan
+            if V > 1:
+                row = gf[v]
+                Hs, Ps, Ms = _chain(row, _FHEAD, m)
+                A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
             if kind == SPHERICAL_WRIST:
                 got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
             elif kind == THREE_PARALLEL:
@@ -143,7 +145,6 @@ def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode:
                 got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
             for k in range(got):
                 at = got_all + k
-                cs[at, :] = np.nan
                 for j in range(m):
                     raw[i, at, keep[j]] = sub[k, j]
                     cs[at, 2 * keep[j]] = sub_cs[k, 2 * j]
@@ -157,18 +158,25 @@ def _pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode:
 
 
 @numba.njit(**JIT)
-def _pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
+def pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray,
            out: np.ndarray, out_code: np.ndarray, out_exact: np.ndarray, out_count: np.ndarray) -> None:
-    """Poses start..stop-1: :func:`robot_sim.ik.finish.expand` into out[i] (W, n)."""
+    """Poses start..stop-1: :func:`robot_sim.ik.finish.expand` into out[i] (W, n), the rows
+    after its solutions padded (NaN, code -1, not exact)."""
     _, _, _, lo, hi, revf = _whole(gf, gi)
     W, n = out.shape[1], out.shape[2]
     work, dist = np.empty((W, n)), np.empty(W)
     source, order, spare = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
     digit, ways, first = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n)
     for i in range(start, stop):
-        out_count[i] = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i],
-                              out_exact[i], work, dist, source, order, spare, digit, ways, first)
+        k = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i], out_exact[i],
+                   work, dist, source, order, spare, digit, ways, first)
+        for a in range(k, W):  # the padding (by index: a view of a row costs two atomic reference counts)
+            for j in range(n):
+                out[i, a, j] = np.nan
+            out_code[i, a] = -1
+            out_exact[i, a] = False
+        out_count[i] = k
 
 
 @numba.njit(**JIT)
@@ -180,41 +188,68 @@ def _q0_finite(q0: np.ndarray) -> bool:
 
 
 @numba.njit(**JIT)
+def begin(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray) -> tuple[int, int]:
+    """The checks of :func:`run`: (bad, K), K the raw branches per pose (0 when ``bad`` is
+    not -1)."""
+    bad = first_bad_pose(Ts, RIGID_TOL)
+    if bad < 0 and not _q0_finite(q0):
+        bad = BAD_Q0
+    return bad, BRANCH_COUNTS[gi[0]] * gf.shape[0] if bad == -1 else 0
+
+
+def pass1_arrays(N: int, K: int, n: int) -> tuple:
+    """Pass 1's arrays (raw, code, count, exact, total) for N poses of K raw branches of n
+    joints; pass 1 writes every entry it reads, so none is filled.  Plain Python, so that
+    a batch from Python gets NumPy's arrays (on huge pages: a tenth of the page faults),
+    and compiled as :func:`_pass1_arrays` for :func:`run`."""
+    return (np.empty((N, K, n)), np.empty((N, K), dtype=np.int64), np.zeros(N, dtype=np.int64),
+            np.empty((N, K), dtype=np.bool_), np.zeros(N, dtype=np.int64))
+
+
+def pass2_arrays(N: int, width: int, n: int) -> tuple:
+    """Pass 2's arrays (out, out_code, out_exact, out_count); pass 2 writes every entry,
+    padding included.  Plain Python as :func:`pass1_arrays`, compiled as :func:`_pass2_arrays`."""
+    return (np.empty((N, width, n)), np.empty((N, width), dtype=np.int64), np.empty((N, width), dtype=np.bool_),
+            np.zeros(N, dtype=np.int64))
+
+
+_pass1_arrays = numba.njit(**JIT)(pass1_arrays)
+_pass2_arrays = numba.njit(**JIT)(pass2_arrays)
+
+
+@numba.njit(**JIT)
+def width(total: np.ndarray, n: int) -> tuple[int, int]:
+    """(W, needed): the most solutions of a pose in ``total`` and needed = N·W·n, W = 0
+    when ``needed`` exceeds :data:`MAX_VALUES` (nothing is allocated then)."""
+    W = 0
+    for i in range(total.shape[0]):
+        W = max(W, total[i])
+    needed = total.shape[0] * W * n
+    return (0 if needed > MAX_VALUES else W), needed
+
+
+@numba.njit(**JIT)
 def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
     """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
     turns ``mode`` asks (RAW, EVERY_TURN or NEAREST_TURN of :mod:`robot_sim.ik.finish`).  Returns
     (q, code, exact, count, needed, bad): q (N, K, n) NaN-padded, nearest q0 first;
-    ``needed`` = N·K·n, and empty arrays when it exceeds :data:`MAX_VALUES`; ``bad`` the
+    ``needed`` = N·K·n, and empty arrays (K = 0) when it exceeds :data:`MAX_VALUES`; ``bad`` the
     index of the first pose that is not a rigid transform (:data:`RIGID_TOL`), or
-    :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved), else -1.
-    Each pose goes through the same code as in :func:`run_one`."""
-    n = gi[9]
-    N = Ts.shape[0]
-    bad = first_bad_pose(Ts, RIGID_TOL)
-    if bad < 0 and not _q0_finite(q0):
-        bad = BAD_Q0
+    :data:`BAD_Q0` for a q0 with NaN or infinite values (then nothing is solved and
+    count is 0), else -1.  In this thread; :func:`robot_sim.ik.threads.run_threads` runs
+    the same passes on chunks of a large batch."""
+    N, n = Ts.shape[0], gi[9]
+    bad, K = begin(gf, gi, Ts, q0)
+    raw, code, count, exact, total = _pass1_arrays(N, K, n)
     if bad != -1:
-        return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
-                np.zeros(N, dtype=np.int64), 0, bad)
-    K = BRANCH_COUNTS[gi[0]] * gf.shape[0]
-    raw = np.full((N, K, n), np.nan)
-    code = np.zeros((N, K), dtype=np.int64)
-    count = np.zeros(N, dtype=np.int64)
-    exact = np.zeros((N, K), dtype=np.bool_)
-    total = np.zeros(N, dtype=np.int64)
-    _pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
-    width = 0
-    for i in range(N):
-        width = max(width, total[i])
-    needed = N * width * n
+        return raw, code, exact, count, 0, bad
+    first = np.int64(0)  # an int64 as from Python, not the literal 0: one compiled pass serves both callers
+    pass1(gf, gi, Ts, q0, mode, first, N, raw, code, count, exact, total)
+    W, needed = width(total, n)
+    out, out_code, out_exact, out_count = _pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
-        return (np.empty((0, 0, n)), np.empty((0, 0), dtype=np.int64), np.empty((0, 0), dtype=np.bool_),
-                total, needed, -1)
-    out = np.full((N, width, n), np.nan)
-    out_code = np.full((N, width), -1, dtype=np.int64)
-    out_exact = np.zeros((N, width), dtype=np.bool_)
-    out_count = np.zeros(N, dtype=np.int64)
-    _pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)
+        return out, out_code, out_exact, total, needed, -1
+    pass2(gf, gi, q0, mode, first, N, raw, code, count, exact, out, out_code, out_exact, out_count)
     return out, out_code, out_exact, out_count, needed, -1
 
 
@@ -222,7 +257,7 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
 def run_one(gf: np.ndarray, gi: np.ndarray, T: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
     """:func:`run` of the one pose T (4, 4): (q (k, n), code (k,), exact (k,), needed, bad)."""
     q, code, exact, count, needed, bad = run(gf, gi, T.reshape((1, 4, 4)), q0, mode)
-    if q.shape[0] == 0:  # not solved
+    if q.shape[1] == 0:  # not solved, or no solution
         return np.empty((0, q.shape[2])), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.bool_), needed, bad
     k = count[0]
     return q[0, :k], code[0, :k], exact[0, :k], needed, bad

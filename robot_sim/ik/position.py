@@ -89,7 +89,7 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
         for t3 in (t3a, t3b):
             x = sub(add(w, scale(t3, h2)), o) if case == ONE_TWO_MEET_SLIDE else sub(turn(h2, p2, t3, w), o)
             q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0])
-            for q1, q2 in ((-m1a, q2a), (-m1b, q2b)):
+            for q1, q2 in ((-m1a[0], q2a[0]), (-m1b[0], q2b[0])):
                 out[n, 0], out[n, 1], out[n, 2] = q1, q2, t3
                 n += 1
     elif case == TWO_THREE_PARALLEL:
@@ -118,7 +118,7 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
         for t1 in (t1a, t1b):
             y = sub(turn(h0, p0, t1, pw), o)
             q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1])
-            for q2, q3 in ((-m2a, q3a), (-m2b, q3b)):
+            for q2, q3 in ((-m2a[0], q3a[0]), (-m2b[0], q3b[0])):
                 out[n, 0], out[n, 1], out[n, 2] = -t1, q2, q3
                 n += 1
     return n

@@ -14,7 +14,8 @@ from robot_sim.ik.classify import Plan, aux_rows, plan
 from robot_sim.ik.family import GENERAL_6R, IKFamily, Solver, solver
 from robot_sim.ik.finish import EVERY_TURN, RAW
 from robot_sim.ik.general import NAMES, general_data, general_solutions
-from robot_sim.ik.pipeline import BAD_Q0, MAX_VALUES, RIGID_TOL, first_bad_pose, pack, run, run_one
+from robot_sim.ik.pipeline import BAD_Q0, MAX_VALUES, RIGID_TOL, first_bad_pose, pack, run_one
+from robot_sim.ik.threads import run_threads
 from robot_sim.model.messages import clip_repr
 from robot_sim.model.params import RobotParams
 from robot_sim.model.state import check_joint_vector
@@ -201,8 +202,9 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
     at q0's value, or at each of ``free_values`` (the solutions of all are returned).
     Arms with fewer joints solve what they can place (:attr:`IKFamily.task`).
 
-    A batch is solved in compiled code, one loop over the poses; its result equals the
-    single-pose results bit for bit.  Raises ValueError for a T that is not a 4×4 rigid
+    A batch is solved in compiled code, with no Python loop over the poses, on every core
+    for a large one (:mod:`robot_sim.ik.threads`); its result equals the single-pose
+    results bit for bit.  Raises ValueError for a T that is not a 4×4 rigid
     transform (or a stack of them), NaN, a q0 of the wrong length, an arm without a
     closed form, and free-joint arguments that do not apply.  A general 6R arm (no closed
     form) gets every real solution by Raghavan and Roth's elimination
@@ -228,7 +230,7 @@ def ik_solutions(robot: RobotParams, T: ArrayLike, q0: ArrayLike | None = None, 
         q, code, exact, needed, bad = run_one(gf, gi, Ts, start, mode)
         count = len(q)
     else:
-        q, code, exact, count, needed, bad = run(gf, gi, Ts, start, mode)
+        q, code, exact, count, needed, bad = run_threads(gf, gi, Ts, start, mode)
     _check(robot, Ts, q0, bad, needed)
     return IKSolutions(q, exact, count, code, sv.family, sv.names)
 

@@ -78,18 +78,28 @@ DEGENERATE = 1e-12
 
 
 @numba.njit(inline="always", **JIT)
-def _angle(k: Vec, a: Vec, b: Vec, default: float) -> float:
-    """θ that turns a onto b about k, both ⟂ k; ``default`` when either vanishes."""
+def _angle(k: Vec, a: Vec, b: Vec, default: float) -> tuple[float, float, float]:
+    """(θ, cos θ, sin θ) for the θ that turns a onto b about k, both ⟂ k; ``default``
+    when either vanishes.  The cosine and sine come from the vectors (a square root and
+    a division, not cos and sin of θ)."""
     if dot(a, a) < DEGENERATE * DEGENERATE or dot(b, b) < DEGENERATE * DEGENERATE:
-        return default
-    return math.atan2(dot(k, cross(a, b)), dot(a, b))
+        return default, math.cos(default), math.sin(default)
+    y, x = dot(k, cross(a, b)), dot(a, b)
+    r = 1.0 / math.sqrt(x * x + y * y)
+    return math.atan2(y, x), x * r, y * r
+
+
+@numba.njit(**JIT)
+def sp1_cs(k: Vec, p1: Vec, p2: Vec, default: float) -> tuple[float, float, float]:
+    """(θ, cos θ, sin θ) for the θ that turns p1 about k onto p2 (their projections on
+    the plane ⟂ k); θ = ``default`` when either projection vanishes (any θ does)."""
+    return _angle(k, perp(k, p1), perp(k, p2), default)
 
 
 @numba.njit(**JIT)
 def sp1(k: Vec, p1: Vec, p2: Vec, default: float) -> float:
-    """θ that turns p1 about k onto p2 (their projections on the plane ⟂ k); ``default``
-    when either projection vanishes (any θ does)."""
-    return _angle(k, perp(k, p1), perp(k, p2), default)
+    """θ of :func:`sp1_cs`."""
+    return _angle(k, perp(k, p1), perp(k, p2), default)[0]
 
 
 @numba.njit(**JIT)
@@ -116,16 +126,17 @@ def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple[float, float, bool, bool]:
 
 
 @numba.njit(**JIT)
-def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple[float, float, float, float, bool]:
+def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple:
     """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
-    (θ1a, θ2a, θ1b, θ2b, exact).
+    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ).
 
     The common image v = α k1 + β k2 ± γ k1×k2 satisfies k1ᵀv = k1ᵀp1, k2ᵀv = k2ᵀp2 and
     ‖v‖ = ‖p1‖ (directions only: p1 and p2 are normalised).  Out of reach γ = 0 (the
     closest pair).  ``d1``, ``d2`` are the angles used where one is free (p on its axis)."""
     n1, n2 = norm(p1), norm(p2)
     if n1 < DEGENERATE or n2 < DEGENERATE:
-        return d1, d2, d1, d2, n1 < DEGENERATE and n2 < DEGENERATE
+        a, b = (d1, math.cos(d1), math.sin(d1)), (d2, math.cos(d2), math.sin(d2))
+        return a, b, a, b, n1 < DEGENERATE and n2 < DEGENERATE
     u1, u2 = scale(1.0 / n1, p1), scale(1.0 / n2, p2)
     k12 = dot(k1, k2)
     det = 1.0 - k12 * k12
