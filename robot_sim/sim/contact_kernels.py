@@ -177,7 +177,7 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
 
 @njit(**JIT)
 def contact_work(dh, C):
-    """The work arrays of :func:`contact_torque` and :func:`same_pairs` for the model
+    """The work arrays of :func:`contact_torque` and :func:`near_slack` for the model
     table ``dh`` and the contact tuple ``C``: link frames, world records (obstacle rows
     filled), world bounding centres (obstacle rows filled) and a record."""
     recs0, bc = C[3], C[5]
@@ -190,7 +190,7 @@ def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
     at (q, qd), and per pair and contact point into its ``out`` (A, POINTS, OUT) the
     distance, witness point, normal, force and anchor offset (distance inf: no such
     point).  ``dh``, ``modified``: the model table and its convention; ``work``:
-    :func:`contact_work`, already posed at q when ``posed`` (by :func:`same_pairs`).
+    :func:`contact_work`, already posed at q when ``posed`` (by :func:`near_slack`).
 
     Contact points of a pair (first shape a, second b): their closest points and, when a
     is a capsule, the sphere of its shallower end (slot 1 or 2 for its end) if that
@@ -285,26 +285,41 @@ def _lower_bound(kinds, recs, wc, br, i, j):
 
 
 @njit(**JIT)
-def same_pairs(q, dh, modified, C, threshold, work):
-    """True when the checked pairs of the contact tuple ``C`` closer than ``threshold``
-    [m] at q (the broad phase first: a pair whose :func:`_lower_bound` is that far is
-    not; then the narrow-phase distance) are exactly its active ``rows``; stops at the
-    first pair that differs."""
+def near_slack(q, dh, modified, C, threshold, work):
+    """Whether the checked pairs of the contact tuple ``C`` closer than ``threshold`` [m]
+    at q (the broad phase first: a pair whose :func:`_lower_bound` is that far is not;
+    then the narrow-phase distance) are exactly its active ``rows``: if so, a lower bound
+    [m] of the distance of every other pair (inf without one), else -inf (found at the
+    first pair that differs).  Leaves ``work`` posed at q."""
     world0, link, local, _, kinds, bc, br, verts = C[:8]
     pairs, rows = C[11], C[13]
     F, recs, wc = work[0], work[1], work[2]
     _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
     k = 0
+    slack = math.inf
     for p in range(pairs.shape[0]):
         i, j = pairs[p, 0], pairs[p, 1]
-        if _lower_bound(kinds, recs, wc, br, i, j) >= threshold:
-            continue
-        if not pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, threshold)[0] < threshold:
-            continue
-        if k == rows.shape[0] or rows[k, 0] != i or rows[k, 1] != j:
-            return False
-        k += 1
-    return k == rows.shape[0]
+        bound = _lower_bound(kinds, recs, wc, br, i, j)
+        if bound < threshold:
+            bound = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, threshold)[0]
+            if bound < threshold:
+                if k == rows.shape[0] or rows[k, 0] != i or rows[k, 1] != j:
+                    return -math.inf
+                k += 1
+                continue
+        slack = min(slack, bound)
+    return slack if k == rows.shape[0] else -math.inf
+
+
+@njit(**INLINE)
+def moved(arms, q, q0):
+    """A bound [m] on how far any point of two shapes moves relative to each other from
+    q0 to q: twice Σ_j arms_j |q_j − q0_j| (each shape's points move at most the lever-arm
+    bound along the straight joint path, ``collision.path.lever_arms``)."""
+    bound = 0.0
+    for j in range(q.shape[0]):
+        bound += arms[j] * abs(q[j] - q0[j])
+    return 2.0 * bound
 
 
 @njit(**INLINE)

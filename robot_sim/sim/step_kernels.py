@@ -22,7 +22,7 @@ from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
 from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
-from robot_sim.sim.contact_kernels import contact_torque, contact_work, margin, same_pairs
+from robot_sim.sim.contact_kernels import O_D, contact_torque, contact_work, margin, moved, near_slack
 
 
 @njit(**INLINE)
@@ -210,6 +210,10 @@ def contact_step(P, rk4, h, q, qd, tau, a_start, use_start, g0, contact, q1, qd1
                     reaction, at, step_work(n), contact, contact_work(P, contact))
 
 
+#: Round-off guard [m] of :func:`run_steps`' skipped near check: a pair whose distance
+#: bound is within this of the margin is checked anew.
+SLACK_TOL = 1e-9
+
 #: Control laws of :func:`run_steps`: no effort, PD, PD plus gravity, computed torque.
 LAW_PASSIVE, LAW_PD, LAW_PDG, LAW_CT = 0, 1, 2, 3
 
@@ -254,10 +258,16 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
 
     ``contact``: None, or a contact tuple (:mod:`.contact_kernels`; its ``arms`` valid at
     every q) with the active pairs of the step before: at each step's start the pairs
-    within :func:`.contact_kernels.margin` must be those (the broad phase of bounding
-    spheres, then the narrow phase), the friction anchors of the touching ones are moved
-    (``contact_torque`` with ``update``), and the step takes their contact torque at
-    every stage; with no active pair it is the free step.
+    within :func:`.contact_kernels.margin` must be those, the friction anchors of the
+    touching ones are moved (``contact_torque`` with ``update``), and the step takes their
+    contact torque at every stage; with no active pair it is the free step.  The pairs
+    near are found by :func:`.contact_kernels.near_slack` (the broad phase of bounding
+    spheres, then the narrow phase), which also bounds the distance of all others from
+    below; until the arm has moved (:func:`.contact_kernels.moved`) so far from where that
+    was checked that one of them may have come within the margin (less
+    :data:`SLACK_TOL`), the check is not repeated: only the active pairs' own distances
+    (from the start's contact torque) are compared with the margin.  The same pairs
+    either way.
 
     Returns the number of steps taken: it stops before a step that the caller takes its
     own way: its command or end state is not finite, a stop is met that is not resting
@@ -276,6 +286,7 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
         arms, rows, mu, anchors, anchored = contact[12], contact[13], contact[15], contact[16], contact[17]
         touching = rows.shape[0] > 0
         kept, kept_anchored = anchors.copy(), anchored.copy()
+        checked_at, slack = q.copy(), -math.inf  # where near_slack last ran, its bound
     for k in range(n_steps):
         _command(P, modified, law, kp, kd, q_des, qd_des, qdd_des, g0, q, qd, c, a_ref, g, zero, work)
         if not squares_finite(c):
@@ -283,8 +294,13 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
         saturated = clip_effort(c, elim, t)
         in_contact = False
         if contact is not None:
-            if not same_pairs(q, P, modified, contact, margin(arms, qd, h), cwork):
-                return k
+            threshold = margin(arms, qd, h)
+            posed = not slack - moved(arms, q, checked_at) > threshold + SLACK_TOL
+            if posed:  # some other pair may have come near: check them all
+                slack = near_slack(q, P, modified, contact, threshold, cwork)
+                checked_at[:] = q
+                if slack == -math.inf:
+                    return k
             if touching:
                 if any_at:
                     return k
@@ -292,8 +308,15 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                 if mu > 0.0:
                     kept[:] = anchors
                     kept_anchored[:] = anchored
-                # the start's acceleration, the anchors moved first (the pose of same_pairs is at q)
-                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work, contact, cwork, True, True)
+                # the start's acceleration, the anchors moved first (near_slack's pose is at q)
+                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work, contact, cwork, True, posed)
+                if not posed:  # the active pairs still within the margin (their distances at q just computed)
+                    for p in range(rows.shape[0]):
+                        if not contact[18][p, 0, O_D] < threshold:
+                            if mu > 0.0:
+                                anchors[:] = kept
+                                anchored[:] = kept_anchored
+                            return k
                 status = step_one(P, modified, rk4, h, q, qd, t, a_start, True, g0, held, False, False, q1, qd1, qdd1,
                                   react, at, work, contact, cwork)
                 ok = status == OK
