@@ -26,22 +26,28 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.kernels.chain import frames
-from robot_sim.kernels.jit import JIT, njit
+from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.collision.narrow import pair_distance
+
+@njit(**INLINE)
+def place_shape(F, link, local, recs, bc, wc, s):
+    """Robot shape s at frames F: its world record into recs[s], its bounding centre into wc[s]."""
+    k = link[s]
+    for r in range(3):
+        f0, f1, f2 = F[k, r, 0], F[k, r, 1], F[k, r, 2]
+        for c in range(3):
+            recs[s, 3 * r + c] = f0 * local[s, c] + f1 * local[s, 3 + c] + f2 * local[s, 6 + c]
+        recs[s, L.POS + r] = f0 * local[s, L.POS] + f1 * local[s, L.POS + 1] + f2 * local[s, L.POS + 2] + F[k, r, 3]
+        wc[s, r] = f0 * bc[s, 0] + f1 * bc[s, 1] + f2 * bc[s, 2] + F[k, r, 3]
+    for c in range(L.RADIUS, L.REC):
+        recs[s, c] = local[s, c]
+
 
 @njit(**JIT)
 def place(F, link, local, recs, bc, wc):
     """Robot shapes at frames F: world records into recs[:S], bounding centres into wc[:S]."""
     for s in range(link.shape[0]):
-        k = link[s]
-        for r in range(3):
-            f0, f1, f2 = F[k, r, 0], F[k, r, 1], F[k, r, 2]
-            for c in range(3):
-                recs[s, 3 * r + c] = f0 * local[s, c] + f1 * local[s, 3 + c] + f2 * local[s, 6 + c]
-            recs[s, L.POS + r] = f0 * local[s, L.POS] + f1 * local[s, L.POS + 1] + f2 * local[s, L.POS + 2] + F[k, r, 3]
-            wc[s, r] = f0 * bc[s, 0] + f1 * bc[s, 1] + f2 * bc[s, 2] + F[k, r, 3]
-        for c in range(L.RADIUS, L.REC):
-            recs[s, c] = local[s, c]
+        place_shape(F, link, local, recs, bc, wc, s)
 
 
 @njit(**JIT)

@@ -28,18 +28,23 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.collision.batch import _gap, _pose
+from robot_sim.collision.batch import _gap, _pose, place_shape
 from robot_sim.collision.closest import dot, point_box
 from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
+from robot_sim.kernels.chain import frames
 from robot_sim.kernels.jit import INLINE, JIT, njit
 
 # Columns of ``gains`` (A, 4) per active pair.
 K_N, C_N, K_T, C_T = range(4)
 # Columns of ``out`` (A, POINTS, OUT) per contact point: signed distance, the first
 # shape's witness point, the normal (first toward second), the force on the first shape,
-# the tangential offset u between its friction anchors.
-O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP = 0, 1, 4, 7, 10
-OUT = 13
+# the tangential offset u between its friction anchors; for a capsule's end spheres
+# (slots 1, 2) also the last distance computed of that end to an obstacle and where the
+# end's centre was then (:func:`contact_torque`: a bound that spares the call).
+O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE = 0, 1, 4, 7, 10, 13, 14
+OUT = 17
+#: Round-off guard [m] of the distance bounds that spare a narrow-phase call.
+BOUND_TOL = 1e-9
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
@@ -204,12 +209,21 @@ def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
     where not ``anchored`` (A, POINTS)) and v_t the slip velocity.  The force on b acts
     at b's witness point, its opposite at a's.  ``update`` (at a step's start) first
     moves the anchors (:func:`_contact_force`) and releases those of points that do not
-    touch: the torque is then the one at the moved anchors."""
+    touch: the torque is then the one at the moved anchors.
+
+    Only the shapes of the active pairs are posed.  An end sphere of a capsule against an
+    obstacle whose last computed distance (``out``'s O_GAP, the end's centre then at
+    O_CENTRE) less how far its centre has moved since is still >= :data:`BOUND_TOL` does
+    not touch: its distance is not computed (the result is the same)."""
     world0, link, local, _, kinds, bc, _, verts, body, axis_frame, revolute = C[:11]
     rows, gains, mu, anchors, anchored, out = C[13:]
     F, recs, wc, end = work
     if not posed:
-        _pose(q, dh, modified, world0, link, local, bc, F, recs, wc)
+        frames(dh, modified, world0, q, F)
+        for p in range(rows.shape[0]):
+            for s in range(2):
+                if rows[p, s] < link.shape[0]:
+                    place_shape(F, link, local, recs, bc, wc, rows[p, s])
     for j in range(tau.shape[0]):
         tau[j] = 0.0
     moving = update and mu > 0.0
@@ -231,25 +245,30 @@ def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
                 # the end farther from the closest point first: when it does not touch, the
                 # shallower end does not either, and the other need not be computed
                 far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
-                end[:] = recs[i]
-                for c in range(3):
-                    end[L.POS + c] = ends[far][c]
-                result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
-                if de < 0.0:
+                # against a shape fixed in the world, the end's own motion bounds its change of distance
+                apart = kb <= 0 and out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far]) >= BOUND_TOL
+                if not apart:
+                    end[:] = recs[i]
                     for c in range(3):
-                        end[L.POS + c] = ends[1 - far][c]
-                    other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                    first, second = (result, other) if far == 0 else (other, result)
-                    e = 0 if first[0] >= second[0] else 1  # the shallower end
-                    de, ae, be, ne = first if e == 0 else second
-                if de < 0.0:
-                    _record(out[p, 1 + e], de, ae, ne)
-                    if moving:
-                        _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
-                                       anchored, p, 1 + e, True, tau, out)
-                    _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors, anchored,
-                                   p, 1 + e, False, tau, out)
+                        end[L.POS + c] = ends[far][c]
+                    result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    _remember(out[p, 1 + far], result[0], ends[far])
+                    de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
+                    if de < 0.0:
+                        for c in range(3):
+                            end[L.POS + c] = ends[1 - far][c]
+                        other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                        _remember(out[p, 2 - far], other[0], ends[1 - far])
+                        first, second = (result, other) if far == 0 else (other, result)
+                        e = 0 if first[0] >= second[0] else 1  # the shallower end
+                        de, ae, be, ne = first if e == 0 else second
+                    if de < 0.0:
+                        _record(out[p, 1 + e], de, ae, ne)
+                        if moving:
+                            _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
+                                           anchored, p, 1 + e, True, tau, out)
+                        _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors, anchored,
+                                       p, 1 + e, False, tau, out)
         if update:
             for e in range(POINTS):
                 if not out[p, e, O_D] < 0.0 or gains[p, K_N] <= 0.0:
@@ -326,6 +345,20 @@ def moved(arms, q, q0):
 def _distance2(x, y):
     """Squared distance of two 3-vectors."""
     return (x[0] - y[0]) ** 2 + (x[1] - y[1]) ** 2 + (x[2] - y[2]) ** 2
+
+
+@njit(**INLINE)
+def _moved(out, centre):
+    """How far [m] an end sphere's centre is from where ``out`` last saw it."""
+    return math.sqrt(_distance2(centre, out[O_CENTRE:O_CENTRE + 3]))
+
+
+@njit(**INLINE)
+def _remember(out, d, centre):
+    """An end sphere's distance d [m] at its centre (3-tuple) into ``out``."""
+    out[O_GAP] = d
+    for c in range(3):
+        out[O_CENTRE + c] = centre[c]
 
 
 @njit(**INLINE)
