@@ -1,9 +1,14 @@
-"""Small robots with known contact answers: carriages of prismatic joints carrying a sphere."""
+"""Small robots with known contact answers: carriages of prismatic joints carrying a sphere;
+and a UR5 over a box to drop onto it."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
+
+from kin_helpers import robot
+from robot_sim.collision import Box, CollisionChecker, World
 
 from robot_sim.model.inertials import LinkInertials
 from robot_sim.model.params import JTYPE_PRISMATIC, RobotParams
@@ -35,3 +40,14 @@ def planar_carriage() -> RobotParams:
                                    [JTYPE_PRISMATIC, JTYPE_PRISMATIC], base_tf=base,
                                    inertials=_inertials([1e-6 * MASS, MASS]),
                                    collisions=((), (Sphere(RADIUS),)))
+
+
+def ur5_over_box() -> tuple:
+    """A UR5 raised 0.4 m at home, and a box under its forearm and wrist whose top is 0.3 m
+    below the arm's lowest shape point."""
+    rob = dataclasses.replace(robot("ur5"), base_tf=HomogeneousTransform.from_xyz_rpy([0, 0, 0.4], [0, 0, 0]))
+    shapes = CollisionChecker(rob).shapes(rob.q_home)
+    lowest = min(s.pose[2, 3] - s.radius - s.length / 2 * abs(s.pose[2, 2]) for _, s in shapes)
+    top = lowest - 0.3
+    box = Box([0.6, 0.6, top], np.array(HomogeneousTransform.from_xyz_rpy([-0.55, -0.1, top / 2], [0, 0, 0]).mat))
+    return rob, World({"box": box})

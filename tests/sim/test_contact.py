@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from contact_helpers import MASS, RADIUS, planar_carriage, vertical_slider
+from contact_helpers import MASS, RADIUS, planar_carriage, ur5_over_box, vertical_slider
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim import dynamics
 from robot_sim.collision import Box, CollisionChecker, Sphere, World
@@ -145,17 +145,6 @@ def test_friction_holds_a_block_on_a_slope_inside_its_cone(integrator):
     (contact,) = sim.contact_forces
     # the slope carries the weight: normal m g cos θ, friction m g sin θ uphill
     np.testing.assert_allclose(contact.force, [0.0, 0.0, MASS * G], rtol=1e-6, atol=1e-6)
-
-
-def ur5_over_box() -> tuple:
-    """A UR5 raised 0.4 m at home, and a box under its forearm and wrist whose top is 0.3 m
-    below the arm's lowest shape point."""
-    rob = dataclasses.replace(robot("ur5"), base_tf=HomogeneousTransform.from_xyz_rpy([0, 0, 0.4], [0, 0, 0]))
-    shapes = CollisionChecker(rob).shapes(rob.q_home)
-    lowest = min(s.pose[2, 3] - s.radius - s.length / 2 * abs(s.pose[2, 2]) for _, s in shapes)
-    top = lowest - 0.3
-    box = Box([0.6, 0.6, top], pose([-0.55, -0.1, top / 2]))
-    return rob, World({"box": box})
 
 
 def total_energy(sim: Simulation) -> float:
