@@ -57,14 +57,15 @@ def step_work(n):
 
 
 @njit(**JIT)
-def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, work, contact, cwork, update, posed):
+def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM, zero, bias, M, fext, total, extra,
+           contact, cwork, update, posed):
     """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque of the active
     pairs of the contact tuple at (q, v) (with the step's gains and anchors; ``update``,
     ``posed`` as ``contact_torque`` takes them); the ``held`` joints locked when
-    ``any_held`` (their reaction into ``react``).  Compiled on its own, not inlined into
-    the step: the step's machine code stays as small and as fast as without contact."""
-    O, CS, F, NM, zero, bias, M, fext, total, extra = (work[0], work[1], work[2], work[3], work[4], work[5], work[6],
-                                                       work[7], work[15], work[16])
+    ``any_held`` (their reaction into ``react``); the rest: :func:`step_work`'s arrays.
+    Compiled on its own, not inlined into the step: the step's machine code stays as
+    small and as fast as without contact (``contact_torque`` is inlined here instead,
+    and only the work arrays used are passed: a call's arguments cost time)."""
     contact_torque(q, v, P, modified, contact, update, posed, extra, cwork)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
@@ -111,7 +112,8 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
                 fd_one(P, modified, at_q, at_v, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F,
                        NM)
             else:
-                _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, work, contact, cwork, False, False)
+                _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
+                       work[15], work[16], contact, cwork, False, False)
             if not all_finite(out):
                 return BAD_ACCEL
         if stage == 0:
@@ -309,7 +311,8 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                     kept[:] = anchors
                     kept_anchored[:] = anchored
                 # the start's acceleration, the anchors moved first (near_slack's pose is at q)
-                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work, contact, cwork, True, posed)
+                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
+                       work[4], work[5], work[6], work[7], work[15], work[16], contact, cwork, True, posed)
                 if not posed:  # the active pairs still within the margin (their distances at q just computed)
                     for p in range(rows.shape[0]):
                         if not contact[18][p, 0, O_D] < threshold:
