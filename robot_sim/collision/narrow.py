@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from robot_sim.collision import layout as L
-from robot_sim.kernels.jit import INLINE, JIT, njit
+from robot_sim.kernels.jit import JIT, njit
 from robot_sim.collision.closest import (dot, inflate, madd, point_cylinder, scale, segment_box, segment_segment, sub)
 from robot_sim.collision.gjk import epa, gjk, support
 
@@ -196,7 +196,7 @@ def _ordered(ka, ra, kb, rb, verts, cutoff):
     return inflate(d, a, b, n, ra[L.RADIUS], rb[L.RADIUS])
 
 
-@njit(**INLINE)
+@njit(**JIT)
 def pair_distance(ka, ra, kb, rb, verts, cutoff):
     """Signed distance (d, a, b, n) between packed shapes a and b (any order of kinds).
     Exact when d < ``cutoff`` (m); otherwise possibly only a lower bound >= cutoff, with

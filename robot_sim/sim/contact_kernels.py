@@ -189,7 +189,7 @@ def contact_work(dh, C):
     return np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1])
 
 
-@njit(**INLINE)
+@njit(**JIT)
 def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
     """The joint torque tau (n,) of the active pairs ``rows`` of the contact tuple ``C``
     at (q, qd), and per pair and contact point into its ``out`` (A, POINTS, OUT) the

@@ -64,8 +64,9 @@ def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM,
     ``posed`` as ``contact_torque`` takes them); the ``held`` joints locked when
     ``any_held`` (their reaction into ``react``); the rest: :func:`step_work`'s arrays.
     Compiled on its own, not inlined into the step: the step's machine code stays as
-    small and as fast as without contact (``contact_torque`` is inlined here instead,
-    and only the work arrays used are passed: a call's arguments cost time)."""
+    small and as fast as without contact.  Only the work arrays used are passed: a
+    call's arguments cost time.  (Inlining ``contact_torque`` here would save about
+    0.1 µs per stage more, but compiles its body a second time, about 20 s of CPU.)"""
     contact_torque(q, v, P, modified, contact, update, posed, extra, cwork)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
