@@ -139,7 +139,7 @@ class GeneralData:
         model = compiled_model(robot)
         return GeneralData((1.0 / size, C, axis6, E1, E2, O, VI.copy(), W.copy(), H, Minv_R, u6, reverse,
                             model.table, model.modified, model.base, model.tool,
-                            S.H.copy(), S.P.copy(), S.revolute.copy(), S.M.copy()), reverse)
+                            S.H.copy(), S.P.copy(), S.revolute.astype(np.int64), S.M.copy()), reverse)
 
 
 def general_data(robot: RobotParams, sv: Solver) -> GeneralData | None:

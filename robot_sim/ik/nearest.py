@@ -20,6 +20,7 @@ from robot_sim.ik.general import reach
 from robot_sim.ik.pipeline import MAX_VALUES, nearest_solution, reach_error, run_one
 from robot_sim.ik.solutions import ik_solutions, packed, unsolved
 from robot_sim.kernels.jit import JIT
+from robot_sim.kernels.model import kernel_array
 from robot_sim.model.params import RobotParams
 
 FloatArray = NDArray[np.float64]
@@ -116,6 +117,6 @@ def follow_branch(robot: RobotParams, poses: ArrayLike, q_start: FloatArray) -> 
         return None
     sols = ik_solutions(robot, poses, q_start, within_limits=False)
     out = np.empty((sols.q.shape[0], robot.n_dofs))
-    _continue(sols.q, sols.count, sols.exact, np.asarray(q_start, dtype=float), robot.is_revolute,
+    _continue(sols.q, sols.count, sols.exact, kernel_array(np.asarray(q_start, dtype=float)), robot.is_revolute,
               np.asarray(robot.q_min), np.asarray(robot.q_max), out)
     return out
