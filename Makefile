@@ -19,22 +19,23 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 # pytest runs go side by side: the headless tests (OSMesa) in front, in two pytest-xdist
 # workers (one a core; a test file stays on one worker, its module fixtures built once), the
 # real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
-# the headless one.  A kernel is compiled by one process only (tests/compile_lock.py).
+# the headless one (only tests/qt is collected for them: every window test lives there,
+# tests/test_suite_layout.py checks).  A kernel is compiled by one process only (tests/compile_lock.py).
 # Fails when either fails.
 test: setup
 	@log=$$(mktemp); \
-	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider >$$log 2>&1 & window=$$!; \
+	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider tests/qt >$$log 2>&1 & window=$$!; \
 	trap 'kill $$window 2>/dev/null; rm -f $$log' INT TERM; \
 	echo "headless tests (OSMesa, two workers); the window tests run meanwhile under xvfb-run"; \
 	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -n 2 --dist loadfile; headless=$$?; \
 	wait $$window; windowed=$$?; \
-	echo "window tests (xvfb-run, pytest -m window):"; cat $$log; rm -f $$log; \
+	echo "window tests (xvfb-run, pytest -m window tests/qt):"; cat $$log; rm -f $$log; \
 	test $$headless -eq 0 && test $$windowed -eq 0
 
 # Everything, the full sweeps included.
 test-full: setup
 	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -m "not window"
-	$(XVFB) $(PY) -m pytest -q -m window
+	$(XVFB) $(PY) -m pytest -q -m window tests/qt
 
 # `make run ARGS="--robot ur5 --demo pick"`: the window with those arguments.
 run: setup
