@@ -243,13 +243,12 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
     raw, code, count, exact, total = _pass1_arrays(N, K, n)
     if bad != -1:
         return raw, code, exact, count, 0, bad
-    first = np.int64(0)  # an int64 as from Python, not the literal 0: one compiled pass serves both callers
-    pass1(gf, gi, Ts, q0, mode, first, N, raw, code, count, exact, total)
+    pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
     W, needed = width(total, n)
     out, out_code, out_exact, out_count = _pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1
-    pass2(gf, gi, q0, mode, first, N, raw, code, count, exact, out, out_code, out_exact, out_count)
+    pass2(gf, gi, q0, mode, 0, N, raw, code, count, exact, out, out_code, out_exact, out_count)
     return out, out_code, out_exact, out_count, needed, -1
 
 
