@@ -118,14 +118,30 @@ class Served:
         self.thread.join(timeout=10)
 
 
+#: Every label's box on the page (JavaScript): the panel's layout.
+LABEL_BOXES = "() => Array.from(document.querySelectorAll('label'), l => { const b = l.getBoundingClientRect(); " \
+              "return [b.x, b.y, b.width, b.height]; })"
+
+
 def connected(page: Any, backend: Any) -> None:
     """Wait until ``page`` is connected to ``backend``'s server (robot-sim --web's), draws,
-    and shows the panel's first update (a render asked for earlier can be lost while the
-    page is still starting; a control clicked earlier can move)."""
+    shows the panel's first update, and its controls have stopped moving (a render asked
+    for while the page is still starting can be lost; a control clicked while the panel
+    grows can move away from the click)."""
     wait_until(lambda: bool(backend.server.get_clients()), what="the page to connect")
     wait_until(lambda: page.locator("canvas").count() > 0, what="the page's canvas")
     page.get_by_text("manipulability", exact=False).first.wait_for()  # the panel's first update is in
-    time.sleep(1.0)
+    laid_out = [None]
+
+    def settled() -> bool:  # the controls stayed where they are over the last 0.3 s
+        now = page.evaluate(LABEL_BOXES)
+        if now != laid_out[0]:
+            laid_out[:] = [now]
+            return False
+        laid_out.append(now)
+        return len(laid_out) > 6
+
+    wait_until(settled, what="the panel's layout to settle")
 
 
 def canvas_box(page: Any) -> dict[str, float]:

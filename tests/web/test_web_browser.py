@@ -5,11 +5,13 @@ timeline move it, a bad DH edit is refused with the window's message, and the ex
 page plays from file://.  Screenshots go to /work/wt/web-shots/ for the closing note."""
 from __future__ import annotations
 
+import io
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
+from PIL import Image
 
 from browser_helpers import (
     SHOTS,
@@ -44,6 +46,14 @@ def _session(robot: str = "puma560", theme: str = "dark", annotate: int | None =
 def _shot(page, name: str) -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / name))
+
+
+def _canvas_pixels(page) -> np.ndarray:
+    """The page's first canvas as an (H, W, 3) uint8 array (a screenshot of the page clipped
+    to the canvas: a third of the time of the element's own screenshot, which waits for
+    the element to hold still)."""
+    shot = page.screenshot(clip=page.locator("canvas").first.bounding_box())
+    return np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"))
 
 
 def _arm_points(session: ViewerSession, per_segment: int = 12) -> np.ndarray:
@@ -248,11 +258,10 @@ def test_the_exported_page_plays_from_a_file(browser, tmp_path: Path) -> None:
     page = open_page(browser, path.as_uri(), traffic)
     try:
         wait_until(lambda: page.locator("canvas").count() > 0, what="the page's canvas")
-        time.sleep(3.0)
-        first = page.locator("canvas").first.screenshot()
-        time.sleep(2.0)
-        second = page.locator("canvas").first.screenshot()
-        assert first != second, "the motion plays"
+        shots: list[np.ndarray] = []
+        wait_until(lambda: shots.append(_canvas_pixels(page)) or shots[-1].std() > 10, what="the scene drawn")
+        drawn = shots[-1]
+        wait_until(lambda: not np.array_equal(_canvas_pixels(page), drawn), timeout=30.0, what="the motion to play")
         pause = page.locator("button").filter(has=page.locator("svg")).first
         assert pause.count() == 1
         _shot(page, "ur5_pick_export_file.png")
