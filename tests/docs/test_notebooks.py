@@ -18,13 +18,17 @@ def test_the_tutorial_series_is_there() -> None:
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_notebook_runs(path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_notebook_runs(path: Path, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     import nbformat
+    from jupyter_client.manager import KernelManager
     from nbclient import NotebookClient
 
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
     book = nbformat.read(path, as_version=4)
-    NotebookClient(book, timeout=CELL_TIMEOUT_S, kernel_name="python3",
+    # The kernel's channels on Unix sockets in tmp_path: TCP ports are picked free and bound
+    # later, and another process of the suite (a web view's server) can take one meanwhile.
+    kernel = KernelManager(kernel_name="python3", transport="ipc", ip=str(tmp_path / "kernel"))
+    NotebookClient(book, km=kernel, timeout=CELL_TIMEOUT_S,
                    resources={"metadata": {"path": str(path.parent)}}).execute()
     outputs = [o for cell in book.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
