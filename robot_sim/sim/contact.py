@@ -157,8 +157,8 @@ class ContactModel:
                            np.empty_like(scene.recs0))
         near = np.flatnonzero(d < margin)
         if np.array_equal(near, self._active):  # the same pairs as in the last step: gains and anchors stay
-            if near.size and self.friction > 0.0:
-                self._evaluate(q, qd, update=True)
+            if near.size:
+                self._begin(q, qd, margin)
             return near.size > 0
         previous = {int(p): k for k, p in enumerate(self._active)}
         A = near.size
@@ -177,16 +177,17 @@ class ContactModel:
         self._active, self._gains, self._anchors, self._anchored = near, gains, anchors, anchored
         self._rows = np.ascontiguousarray(self._pairs[near])
         self._out = np.zeros((A, K.POINTS, K.OUT))
-        if A and self.friction > 0.0:
-            self._evaluate(q, qd, update=True)
+        if A:
+            self._begin(q, qd, margin)
         return A > 0
 
     def torque(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
         """Joint torque (n,) [N·m or N] of the active pairs' contact forces at (q, qd), with
-        this step's gains and anchors (zero without active pairs)."""
+        this step's contact frames, gains and anchors (zero without active pairs)."""
         if self._active.size == 0:
             return np.zeros(self.robot.n_dofs)
-        return self._evaluate(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float))
+        return self._stage(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
+                           self.compiled(all_q=False))
 
     def step(self, q: FloatArray, qd: FloatArray, tau: FloatArray, a1: FloatArray | None, h: float, rk4: bool,
              g0: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -218,14 +219,19 @@ class ContactModel:
         return found
 
     def stored_energy(self, q: ArrayLike) -> float:
-        """Potential energy [J] in the active pairs' springs at q: Σ ½ k δ² + ½ k_T |u|²."""
+        """Potential energy [J] in the active pairs' springs at q, with contact frames fixed
+        at q (the exact distances): Σ ½ k δ² + ½ k_T |u|².  The step's own frames are kept."""
         q = check_joint_vector(q, self.robot.n_dofs)
         if self._active.size == 0:
             return 0.0
         q = np.ascontiguousarray(q, dtype=float)
-        self._evaluate(q, np.zeros(self.robot.n_dofs))
-        depth = np.maximum(-self._out[:, :, K.O_D], 0.0)  # (A, POINTS)
-        u = self._out[:, :, K.O_SLIP:K.O_SLIP + 3]
+        qd = np.zeros(self.robot.n_dofs)
+        out = self._out.copy()
+        C = self.compiled(all_q=False)[:-1] + (out,)
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, False, MIN_MARGIN, self._work)
+        self._stage(q, qd, C)
+        depth = np.maximum(-out[:, :, K.O_D], 0.0)  # (A, POINTS)
+        u = out[:, :, K.O_SLIP:K.O_SLIP + 3]
         spring = self._gains[:, K.K_N, None] * depth**2 + self._gains[:, K.K_T, None] * np.sum(u * u, axis=2)
         return float(0.5 * np.sum(np.where(depth > 0.0, spring, 0.0)))
 
@@ -234,11 +240,14 @@ class ContactModel:
         self.__init__(self.checker, friction=self.friction)
 
     # ------------------------------------------------------------------ helpers
-    def _evaluate(self, q: FloatArray, qd: FloatArray, update: bool = False) -> FloatArray:
-        scene = self.checker.scene
+    def _begin(self, q: FloatArray, qd: FloatArray, margin: float) -> None:
+        """Fix this step's contact frames at its start (q, qd) and move the friction anchors."""
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, self.compiled(all_q=False), True, False,
+                        margin, self._work)
+
+    def _stage(self, q: FloatArray, qd: FloatArray, C: tuple) -> FloatArray:
         tau = np.empty(self.robot.n_dofs)
-        K.contact_torque(q, qd, scene.dh, self.robot.is_modified, self.compiled(all_q=False), update, False, tau,
-                         self._work)
+        K.contact_stage(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, tau, self._work)
         return tau
 
     def _frames(self, q: FloatArray) -> None:

@@ -1,5 +1,6 @@
 """Compiled penalty-contact terms (:mod:`.contact`): point Jacobians of link points, the
-joint torque of the contacts of one configuration, the check that the pairs near
+contact frames fixed at a step's start and the joint torque of its contacts at any
+state of the step, the check that the pairs near
 contact are still the active ones, and the bound on how close a pair must be to become
 active.  The step of an arm in contact is the one stepping kernel's
 (:func:`robot_sim.sim.step_kernels.step_one` with a contact tuple).
@@ -16,7 +17,7 @@ scene and the active pairs of the current step, in this order:
   arm [m/rad, or 1 for a prismatic joint] (``collision.path.lever_arms``);
 * ``rows`` (A, 2): the active pairs (in the order of ``pairs``), ``gains`` (A, 4),
   ``mu`` the Coulomb coefficient, ``anchors`` (A, POINTS, 2, 3), ``anchored`` (A, POINTS),
-  ``out`` (A, POINTS, OUT) (:func:`contact_torque`).
+  ``out`` (A, POINTS, OUT) (:func:`contact_begin`, :func:`contact_stage`).
 
 Its work arrays come from :func:`contact_work`.  World frame, metres, newtons; joint
 torques in N·m (revolute) or N (prismatic).
@@ -40,11 +41,13 @@ K_N, C_N, K_T, C_T = range(4)
 # shape's witness point, the normal (first toward second), the force on the first shape,
 # the tangential offset u between its friction anchors; for a capsule's end spheres
 # (slots 1, 2) also the last distance computed of that end to an obstacle and where the
-# end's centre was then (:func:`contact_torque`: a bound that spares the call).
-O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE = 0, 1, 4, 7, 10, 13, 14
-OUT = 17
-#: Round-off guard [m] of the distance bounds that spare a narrow-phase call.
-BOUND_TOL = 1e-9
+# end's centre was then (:func:`contact_begin`: a bound that spares the call); whether
+# the point takes part in the step (1.0), n·b at the step's start, and the two shapes'
+# core points under their witness points, each in its body's frame (the contact frame
+# held over the step, :func:`contact_stage`).
+O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE, O_ON, O_FIXED, O_HELD_A, O_HELD_B = (
+    0, 1, 4, 7, 10, 13, 14, 17, 18, 19, 22)
+OUT = 25
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
@@ -128,14 +131,39 @@ def to_body(F, k, x, out):
 
 
 @njit(**INLINE)
-def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot, update,
-                   tau, out):
-    """Contact point ``slot`` of active pair p, of depth −d > 0 (witness points a, b,
-    normal nrm from the first shape to the second; 3-tuples).  Without ``update``: its
-    force into tau (joint torque) and out[p, slot] (force on the first shape, anchor
-    offset).  With ``update`` (a step's start, friction on) nothing but its anchors: a
-    point touching for the first time is anchored at its witness points, and a slipping
-    one's second anchor is slid back onto the friction cap."""
+def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot):
+    """At a step's start (friction on), the anchors of contact point ``slot`` of active
+    pair p, of depth −d > 0 (exact witness points a, b and normal nrm; 3-tuples): a point
+    touching for the first time is anchored at its witness points, and a slipping one's
+    second anchor is slid back onto the friction cap μ f_n / k_T."""
+    g = gains[p]
+    anchor = anchors[p, slot]
+    if not anchored[p, slot]:
+        to_body(F, ka, a, anchor[0])
+        to_body(F, kb, b, anchor[1])
+        anchored[p, slot] = True
+        return
+    va = point_velocity(F, ka, a, qd, axis_frame, revolute)
+    vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
+    rate = (vb[0] - va[0]) * nrm[0] + (vb[1] - va[1]) * nrm[1] + (vb[2] - va[2]) * nrm[2]
+    fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
+    xa = to_world(F, ka, anchor[0])
+    xb = to_world(F, kb, anchor[1])
+    w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
+    wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
+    u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
+    size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    cap = mu * fn / g[K_T]
+    if size > cap:
+        keep = 1.0 - cap / size
+        to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
+
+
+@njit(**INLINE)
+def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot, tau, out):
+    """Contact point ``slot`` of active pair p at depth −d > 0 along its normal nrm (from
+    the first shape to the second; witness points a, b; 3-tuples): its force into tau
+    (joint torque) and out[p, slot] (force on the first shape, anchor offset)."""
     g = gains[p]
     anchor = anchors[p, slot]
     va = point_velocity(F, ka, a, qd, axis_frame, revolute)
@@ -143,11 +171,6 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
     v0, v1, v2 = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
     rate = v0 * nrm[0] + v1 * nrm[1] + v2 * nrm[2]
     fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
-    if update and not anchored[p, slot]:
-        to_body(F, ka, a, anchor[0])
-        to_body(F, kb, b, anchor[1])
-        anchored[p, slot] = True
-        return
     u0 = u1 = u2 = 0.0
     if mu > 0.0 and anchored[p, slot]:
         xa = to_world(F, ka, anchor[0])
@@ -155,13 +178,6 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
         w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
         wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
         u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
-        if update:
-            size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-            cap = mu * fn / g[K_T]
-            if size > cap:
-                keep = 1.0 - cap / size
-                to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
-            return
     f0, f1, f2 = fn * nrm[0], fn * nrm[1], fn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
@@ -182,97 +198,163 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
 
 @njit(**JIT)
 def contact_work(dh, C):
-    """The work arrays of :func:`contact_torque` and :func:`near_slack` for the model
-    table ``dh`` and the contact tuple ``C``: link frames, world records (obstacle rows
-    filled), world bounding centres (obstacle rows filled) and a record."""
+    """The work arrays of :func:`contact_begin`, :func:`contact_stage` and
+    :func:`near_slack` for the model table ``dh`` and the contact tuple ``C``: link frames,
+    world records (obstacle rows filled), world bounding centres (obstacle rows filled)
+    and a record."""
     recs0, bc = C[3], C[5]
     return np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1])
 
 
+@njit(**INLINE)
+def _pose_active(q, dh, modified, C, work):
+    """Frames at q and the world records of the active pairs' robot shapes into ``work``."""
+    world0, link, local, bc, rows = C[0], C[1], C[2], C[5], C[13]
+    F, recs, wc = work[0], work[1], work[2]
+    frames(dh, modified, world0, q, F)
+    for p in range(rows.shape[0]):
+        for s in range(2):
+            if rows[p, s] < link.shape[0]:
+                place_shape(F, link, local, recs, bc, wc, rows[p, s])
+
+
 @njit(**JIT)
-def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
-    """The joint torque tau (n,) of the active pairs ``rows`` of the contact tuple ``C``
-    at (q, qd), and per pair and contact point into its ``out`` (A, POINTS, OUT) the
-    distance, witness point, normal, force and anchor offset (distance inf: no such
-    point).  ``dh``, ``modified``: the model table and its convention; ``work``:
-    :func:`contact_work`, already posed at q when ``posed`` (by :func:`near_slack`).
+def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
+    """Fix the contact frames of a step's start at (q, qd) for the active pairs ``rows`` of
+    the contact tuple ``C``: per pair and contact point, into its ``out`` (A, POINTS, OUT),
+    the exact signed distance, first witness point and normal (from the first shape to
+    the second), O_ON 1.0 for the points that take part in the step, and the contact
+    frame held over the step (O_FIXED, O_HELD_A, O_HELD_B: :func:`_fix`); distance inf
+    and O_ON 0.0 elsewhere.  ``dh``, ``modified``: the model table and its convention; ``threshold``
+    [m]: the step's margin (:func:`margin`); ``work``: :func:`contact_work`, already posed
+    at q when ``posed`` (by :func:`near_slack`).  :func:`contact_stage` then gives the
+    force of every point at any state of the step.
 
-    Contact points of a pair (first shape a, second b): their closest points and, when a
-    is a capsule, the sphere of its shallower end (slot 1 or 2 for its end) if that
-    overlaps too: a capsule lying flat rests on both ends instead of rocking between them,
-    and the springs' energy ½ k (δ² + δ_end²) stays a smooth function of q (the two ends
-    trade places where their depths are equal).  A point of depth δ > 0 pushes the
-    shapes apart with f_n = max(0, k_n δ − c_n ḋ) along its normal (ḋ the separation
-    rate).  With friction (mu > 0) the tangential force is −k_T u − c_T v_t, capped at
-    mu · f_n, where u is the tangential offset between the point's two anchors
-    (``anchors`` (A, POINTS, 2, 3): a point on each shape, in its body's frame; zero
-    where not ``anchored`` (A, POINTS)) and v_t the slip velocity.  The force on b acts
-    at b's witness point, its opposite at a's.  ``update`` (at a step's start) first
-    moves the anchors (:func:`_contact_force`) and releases those of points that do not
-    touch: the torque is then the one at the moved anchors.
+    Contact points of a pair (first shape a, second b): their closest points (slot 0,
+    always) and, when a is a capsule, the sphere of one of its ends (slot 1 or 2 for its
+    end): the shallower end if both overlap (a capsule lying flat rests on both ends
+    instead of rocking between them, and the springs' energy ½ k (δ² + δ_end²) stays a
+    smooth function of q: the two ends trade places where their depths are equal), else
+    the end farther from the closest point if it is within ``threshold`` (it may come to
+    touch during the step).  The end farther from the closest point is computed first:
+    when it does not touch, the shallower end does not either, and the other need not be
+    computed.
 
-    Only the shapes of the active pairs are posed.  An end sphere of a capsule against an
-    obstacle whose last computed distance (``out``'s O_GAP, the end's centre then at
-    O_CENTRE) less how far its centre has moved since is still >= :data:`BOUND_TOL` does
-    not touch: its distance is not computed (the result is the same)."""
-    world0, link, local, _, kinds, bc, _, verts, body, axis_frame, revolute = C[:11]
+    ``update`` (at a step's start) also moves the friction anchors (``anchors`` (A,
+    POINTS, 2, 3), a point on each shape in its body's frame, and ``anchored`` (A,
+    POINTS); :func:`_move_anchors`) of the touching points and releases those of points
+    that do not touch.  An end sphere of a capsule against a shape fixed in the world
+    whose last computed distance (``out``'s O_GAP, the end's centre then at O_CENTRE) less
+    how far its centre has moved since is still >= ``threshold`` cannot touch during the
+    step: its distance is not computed (the result is the same)."""
+    link, local, kinds, verts, body, axis_frame, revolute = C[1], C[2], C[4], C[7], C[8], C[9], C[10]
     rows, gains, mu, anchors, anchored, out = C[13:]
-    F, recs, wc, end = work
+    F, recs, end = work[0], work[1], work[3]
     if not posed:
-        frames(dh, modified, world0, q, F)
-        for p in range(rows.shape[0]):
-            for s in range(2):
-                if rows[p, s] < link.shape[0]:
-                    place_shape(F, link, local, recs, bc, wc, rows[p, s])
-    for j in range(tau.shape[0]):
-        tau[j] = 0.0
+        _pose_active(q, dh, modified, C, work)
     moving = update and mu > 0.0
     for p in range(rows.shape[0]):
         i, j = rows[p, 0], rows[p, 1]
         ka, kb = body[i], body[j]
+        ra, rb = local[i, L.RADIUS], local[j, L.RADIUS] if j < link.shape[0] else 0.0
         for e in range(POINTS):
             out[p, e, O_D] = math.inf
+            out[p, e, O_ON] = 0.0
         d, a, b, nrm = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, math.inf)
-        _record(out[p, 0], d, a, nrm)
-        if gains[p, K_N] > 0.0 and d < 0.0:
-            if moving:
-                _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
-                               True, tau, out)
-            _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
-                           False, tau, out)
-            if kinds[i] == L.CAPSULE:
-                ends = core_ends(kinds[i], recs[i])
-                # the end farther from the closest point first: when it does not touch, the
-                # shallower end does not either, and the other need not be computed
-                far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
-                # against a shape fixed in the world, the end's own motion bounds its change of distance
-                apart = kb <= 0 and out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far]) >= BOUND_TOL
-                if not apart:
-                    end[:] = recs[i]
+        _fix(F, ka, kb, ra, rb, out[p, 0], d, a, b, nrm)
+        touches = gains[p, K_N] > 0.0
+        if moving and touches and d < 0.0:
+            _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0)
+        if kinds[i] == L.CAPSULE:
+            ends = core_ends(kinds[i], recs[i])
+            far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
+            # against a shape fixed in the world, the end's own motion bounds its change of distance
+            apart = kb <= 0 and out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far]) >= threshold
+            if not apart:
+                end[:] = recs[i]
+                for c in range(3):
+                    end[L.POS + c] = ends[far][c]
+                result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                _remember(out[p, 1 + far], result[0], ends[far])
+                de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
+                if de < 0.0:
                     for c in range(3):
-                        end[L.POS + c] = ends[far][c]
-                    result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                    _remember(out[p, 1 + far], result[0], ends[far])
-                    de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
-                    if de < 0.0:
-                        for c in range(3):
-                            end[L.POS + c] = ends[1 - far][c]
-                        other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                        _remember(out[p, 2 - far], other[0], ends[1 - far])
-                        first, second = (result, other) if far == 0 else (other, result)
-                        e = 0 if first[0] >= second[0] else 1  # the shallower end
-                        de, ae, be, ne = first if e == 0 else second
-                    if de < 0.0:
-                        _record(out[p, 1 + e], de, ae, ne)
-                        if moving:
-                            _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
-                                           anchored, p, 1 + e, True, tau, out)
-                        _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors, anchored,
-                                       p, 1 + e, False, tau, out)
+                        end[L.POS + c] = ends[1 - far][c]
+                    other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    _remember(out[p, 2 - far], other[0], ends[1 - far])
+                    first, second = (result, other) if far == 0 else (other, result)
+                    e = 0 if first[0] >= second[0] else 1  # the shallower end
+                    de, ae, be, ne = first if e == 0 else second
+                if de < threshold:
+                    _fix(F, ka, kb, ra, rb, out[p, 1 + e], de, ae, be, ne)
+                    if moving and touches and de < 0.0:
+                        _move_anchors(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
+                                      anchored, p, 1 + e)
         if update:
             for e in range(POINTS):
-                if not out[p, e, O_D] < 0.0 or gains[p, K_N] <= 0.0:
+                if not out[p, e, O_D] < 0.0 or not touches:
                     anchored[p, e] = False
+
+
+@njit(**JIT)
+def contact_stage(q, qd, dh, modified, C, posed, tau, work):
+    """The joint torque tau (n,) at (q, qd) of the contact points that take part in the
+    step (O_ON, fixed by :func:`contact_begin` at its start), and per point into ``out``
+    its distance, first witness point, force and anchor offset.  ``work``:
+    :func:`contact_work`, its frames already at q when ``posed``.
+
+    The contact frame is held over the step: each point keeps the normal n of the step's
+    start, and the core points under its witness points move with their bodies (a
+    shape's core: a sphere's centre, a point of a capsule's segment, a box's surface
+    point).  Its distance is d = n·(b − a), with a = x_a + r_a n and b = x_b − r_b n
+    (x the held core points, r the radii; for a second shape fixed in the world, n·b
+    as at the start: its tangent plane).  At the start d is the exact signed distance
+    and its gradient the exact one; over the step it differs from the exact distance by
+    the second-order terms of that tangent-plane picture (the curvature of the shapes
+    times the square of the witness points' slide, and the turn of the exact normal times
+    the lever of the point): none for a sphere, or a capsule's end or side, on a face of
+    a fixed shape.
+
+    A point of depth δ = −d > 0 pushes the shapes apart with f_n = max(0, k_n δ − c_n ḋ)
+    along n (ḋ the separation rate).  With friction (mu > 0) the tangential force is
+    −k_T u − c_T v_t, capped at mu · f_n, where u is the part across n of the offset
+    between the point's two anchors (zero where not ``anchored``) and v_t the slip
+    velocity.  The force on b acts at b, its opposite at a."""
+    world0, local, body, axis_frame, revolute = C[0], C[2], C[8], C[9], C[10]
+    rows, gains, mu, anchors, anchored, out = C[13:]
+    F = work[0]
+    if not posed:
+        frames(dh, modified, world0, q, F)
+    for j in range(tau.shape[0]):
+        tau[j] = 0.0
+    S = local.shape[0]
+    for p in range(rows.shape[0]):
+        i, j = rows[p, 0], rows[p, 1]
+        ka, kb = body[i], body[j]
+        ra = local[i, L.RADIUS]
+        for s in range(POINTS):
+            o = out[p, s]
+            if o[O_ON] == 0.0:
+                continue
+            n = (o[O_NORMAL], o[O_NORMAL + 1], o[O_NORMAL + 2])
+            x = to_world(F, ka, o[O_HELD_A:O_HELD_A + 3])
+            a = (x[0] + ra * n[0], x[1] + ra * n[1], x[2] + ra * n[2])
+            if kb > 0:  # both shapes move
+                rb = local[j, L.RADIUS] if j < S else 0.0
+                y = to_world(F, kb, o[O_HELD_B:O_HELD_B + 3])
+                b = (y[0] - rb * n[0], y[1] - rb * n[1], y[2] - rb * n[2])
+                d = dot(n, b) - dot(n, a)
+            else:
+                d = o[O_FIXED] - dot(n, a)
+                b = (a[0] + d * n[0], a[1] + d * n[1], a[2] + d * n[2])
+            o[O_D] = d
+            for c in range(3):
+                o[O_POINT + c] = a[c]
+                o[O_FORCE + c] = 0.0
+                o[O_SLIP + c] = 0.0
+            if gains[p, K_N] > 0.0 and d < 0.0:
+                _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s,
+                               tau, out)
 
 
 @njit(**INLINE)
@@ -362,10 +444,15 @@ def _remember(out, d, centre):
 
 
 @njit(**INLINE)
-def _record(out, d, a, nrm):
+def _fix(F, ka, kb, ra, rb, out, d, a, b, nrm):
+    """A contact point of the step into ``out``: its exact distance d [m], witness points
+    a, b and normal nrm (3-tuples) at the step's start, O_ON set, O_FIXED = n·b and the
+    core points under a and b (radii ra, rb) in the frames of their bodies ka, kb."""
     out[O_D] = d
+    out[O_ON] = 1.0
+    out[O_FIXED] = dot(nrm, a) + d
     for c in range(3):
         out[O_POINT + c] = a[c]
         out[O_NORMAL + c] = nrm[c]
-        out[O_FORCE + c] = 0.0
-        out[O_SLIP + c] = 0.0
+    to_body(F, ka, (a[0] - ra * nrm[0], a[1] - ra * nrm[1], a[2] - ra * nrm[2]), out[O_HELD_A:O_HELD_A + 3])
+    to_body(F, kb, (b[0] + rb * nrm[0], b[1] + rb * nrm[1], b[2] + rb * nrm[2]), out[O_HELD_B:O_HELD_B + 3])
