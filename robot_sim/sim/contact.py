@@ -164,16 +164,17 @@ class ContactModel:
         A = near.size
         gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
         anchored = np.zeros((A, K.POINTS), dtype=np.bool_)
-        self._frames(q)
-        M = None
+        new = []
         for k, p in enumerate(near):
             old = previous.get(int(p))
-            if old is not None:
+            if old is None:
+                new.append(k)
+            else:
                 gains[k], anchors[k], anchored[k] = self._gains[old], self._anchors[old], self._anchored[old]
-                continue
-            if M is None:
-                M = dynamics.mass_matrix(self.robot, q)
-            gains[k] = self._gains_at(M, int(p), pts[p], nrm[p], dt)
+        if new:
+            self._frames(q)
+            gains[new] = self._gains_of(dynamics.mass_matrix(self.robot, q), near[new], pts[near[new]],
+                                        nrm[near[new]], dt)
         self._active, self._gains, self._anchors, self._anchored = near, gains, anchors, anchored
         self._rows = np.ascontiguousarray(self._pairs[near])
         self._out = np.zeros((A, K.POINTS, K.OUT))
@@ -247,7 +248,7 @@ class ContactModel:
 
     def _stage(self, q: FloatArray, qd: FloatArray, C: tuple) -> FloatArray:
         tau = np.empty(self.robot.n_dofs)
-        K.contact_stage(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, tau, self._work)
+        K.contact_torque(q, qd, self.checker.scene.dh, self.robot.is_modified, C, tau, self._work)
         return tau
 
     def _frames(self, q: FloatArray) -> None:
@@ -255,22 +256,29 @@ class ContactModel:
         scene = self.checker.scene
         chain.frames(scene.dh, self.robot.is_modified, scene.world0, q, self._F)
 
-    def _gains_at(self, M: FloatArray, p: int, points: FloatArray, normal: FloatArray, dt: float) -> FloatArray:
-        """[k_n, c_n, k_t, c_t] of pair p: the normal gains from its effective mass along
-        ``normal``, the tangential ones from the smallest effective mass across it (never
-        above the normal one); zero for a pair whose shapes cannot move each other."""
-        i, j = self._pairs[p]
-        J = np.empty((3, self.robot.n_dofs))
-        K.relative_jacobian(self._F, self._body[i], points[0], self._body[j], points[1], self._axis_frame,
-                            self._revolute, J)
-        inverse = J @ np.linalg.solve(M, J.T)  # (3, 3) inverse operational-space mass
-        tangent = np.eye(3) - np.outer(normal, normal)
-        normal_inverse = float(normal @ inverse @ normal)
-        if not normal_inverse > IMMOBILE:
-            return np.zeros(4)
+    def _gains_of(self, M: FloatArray, pairs: NDArray[np.int64], points: FloatArray, normals: FloatArray,
+                  dt: float) -> FloatArray:
+        """[k_n, c_n, k_t, c_t] (B, 4) of the pairs (B,) (rows of the checked pairs) with
+        witness points (B, 2, 3) and normals (B, 3), at the mass matrix M: the normal gains
+        from a pair's effective mass along its normal, the tangential ones from the
+        smallest effective mass across it (never above the normal one); zero for a pair
+        whose shapes cannot move each other."""
+        B, n = len(pairs), self.robot.n_dofs
+        J = np.empty((B, 3, n))
+        for k, p in enumerate(pairs):
+            i, j = self._pairs[p]
+            K.relative_jacobian(self._F, self._body[i], points[k, 0], self._body[j], points[k, 1], self._axis_frame,
+                                self._revolute, J[k])
+        X = np.linalg.solve(M, J.transpose(2, 0, 1).reshape(n, 3 * B)).reshape(n, B, 3)
+        inverse = np.einsum("bin,nbj->bij", J, X)  # (B, 3, 3) inverse operational-space masses
+        normal_inverse = np.einsum("bi,bij,bj->b", normals, inverse, normals)
+        tangent = np.eye(3) - normals[:, :, None] * normals[:, None, :]
         # the tangential spring is tuned to the lightest direction in the tangent plane
-        tangent_inverse = max(float(np.linalg.eigvalsh(tangent @ inverse @ tangent)[-1]), normal_inverse)
+        tangent_inverse = np.maximum(np.linalg.eigvalsh(tangent @ inverse @ tangent)[:, -1], normal_inverse)
         omega = OMEGA_DT / dt
-        m_n, m_t = 1.0 / normal_inverse, 1.0 / tangent_inverse
-        return np.array([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
-                         m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega])
+        mobile = normal_inverse > IMMOBILE
+        m_n = 1.0 / np.where(mobile, normal_inverse, 1.0)
+        m_t = 1.0 / np.where(mobile, tangent_inverse, 1.0)
+        gains = np.stack([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
+                          m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega], axis=1)
+        return np.where(mobile[:, None], gains, 0.0)

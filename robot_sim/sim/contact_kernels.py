@@ -42,12 +42,14 @@ K_N, C_N, K_T, C_T = range(4)
 # the tangential offset u between its friction anchors; for a capsule's end spheres
 # (slots 1, 2) also the last distance computed of that end to an obstacle and where the
 # end's centre was then (:func:`contact_begin`: a bound that spares the call); whether
-# the point takes part in the step (1.0), n·b at the step's start, and the two shapes'
-# core points under their witness points, each in its body's frame (the contact frame
-# held over the step, :func:`contact_stage`).
-O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE, O_ON, O_FIXED, O_HELD_A, O_HELD_B = (
-    0, 1, 4, 7, 10, 13, 14, 17, 18, 19, 22)
-OUT = 25
+# the point takes part in the step (1.0), n·b at the step's start, the two shapes' core
+# points under their witness points, each in its body's frame (the contact frame held
+# over the step), and what :func:`contact_stage` reads besides: the two bodies, the two
+# radii, the pair's gains, the two anchors and whether they are set (1.0).
+(O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE, O_ON, O_FIXED, O_HELD_A, O_HELD_B, O_BODY_A, O_BODY_B,
+ O_RADIUS_A, O_RADIUS_B, O_GAINS, O_ANCHOR_A, O_ANCHOR_B, O_ANCHORED) = (
+    0, 1, 4, 7, 10, 13, 14, 17, 18, 19, 22, 25, 26, 27, 28, 29, 33, 36, 39)
+OUT = 40
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
@@ -160,30 +162,31 @@ def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, 
 
 
 @njit(**INLINE)
-def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot, tau, out):
+def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, mu, out, p, slot, tau):
     """Contact point ``slot`` of active pair p at depth −d > 0 along its normal nrm (from
-    the first shape to the second; witness points a, b; 3-tuples): its force into tau
-    (joint torque) and out[p, slot] (force on the first shape, anchor offset)."""
-    g = gains[p]
-    anchor = anchors[p, slot]
+    the first shape to the second; witness points a, b; 3-tuples) on bodies ka, kb: its
+    force into tau (joint torque) and out[p, slot] (force on the first shape, anchor
+    offset), with the gains and anchors ``out`` holds (:func:`_stage_record`)."""
+    k_n, c_n = out[p, slot, O_GAINS + K_N], out[p, slot, O_GAINS + C_N]
+    k_t, c_t = out[p, slot, O_GAINS + K_T], out[p, slot, O_GAINS + C_T]
     va = point_velocity(F, ka, a, qd, axis_frame, revolute)
     vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
     v0, v1, v2 = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
     rate = v0 * nrm[0] + v1 * nrm[1] + v2 * nrm[2]
-    fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
+    fn = max(k_n * (-d) - c_n * rate, 0.0)
     u0 = u1 = u2 = 0.0
-    if mu > 0.0 and anchored[p, slot]:
-        xa = to_world(F, ka, anchor[0])
-        xb = to_world(F, kb, anchor[1])
+    if mu > 0.0 and out[p, slot, O_ANCHORED] == 1.0:
+        xa = to_world(F, ka, (out[p, slot, O_ANCHOR_A], out[p, slot, O_ANCHOR_A + 1], out[p, slot, O_ANCHOR_A + 2]))
+        xb = to_world(F, kb, (out[p, slot, O_ANCHOR_B], out[p, slot, O_ANCHOR_B + 1], out[p, slot, O_ANCHOR_B + 2]))
         w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
         wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
         u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
     f0, f1, f2 = fn * nrm[0], fn * nrm[1], fn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
-        g0 = -g[K_T] * u0 - g[C_T] * t0
-        g1 = -g[K_T] * u1 - g[C_T] * t1
-        g2 = -g[K_T] * u2 - g[C_T] * t2
+        g0 = -k_t * u0 - c_t * t0
+        g1 = -k_t * u1 - c_t * t1
+        g2 = -k_t * u2 - c_t * t2
         size = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
         s = mu * fn / size if size > mu * fn else 1.0
         f0 += s * g0
@@ -191,9 +194,8 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
         f2 += s * g2
     add_point_torque(F, kb, b, (f0, f1, f2), 1.0, axis_frame, revolute, tau)
     add_point_torque(F, ka, a, (f0, f1, f2), -1.0, axis_frame, revolute, tau)
-    o = out[p, slot]
-    o[O_FORCE], o[O_FORCE + 1], o[O_FORCE + 2] = -f0, -f1, -f2
-    o[O_SLIP], o[O_SLIP + 1], o[O_SLIP + 2] = u0, u1, u2
+    out[p, slot, O_FORCE], out[p, slot, O_FORCE + 1], out[p, slot, O_FORCE + 2] = -f0, -f1, -f2
+    out[p, slot, O_SLIP], out[p, slot, O_SLIP + 1], out[p, slot, O_SLIP + 2] = u0, u1, u2
 
 
 @njit(**JIT)
@@ -290,18 +292,22 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                     if moving and touches and de < 0.0:
                         _move_anchors(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
                                       anchored, p, 1 + e)
-        if update:
-            for e in range(POINTS):
-                if not out[p, e, O_D] < 0.0 or not touches:
-                    anchored[p, e] = False
+        for e in range(POINTS):
+            if update and (not out[p, e, O_D] < 0.0 or not touches):
+                anchored[p, e] = False
+            if out[p, e, O_ON] == 1.0:
+                _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
 
 
-@njit(**JIT)
-def contact_stage(q, qd, dh, modified, C, posed, tau, work):
+@njit(**INLINE)
+def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F, posed, tau):
     """The joint torque tau (n,) at (q, qd) of the contact points that take part in the
-    step (O_ON, fixed by :func:`contact_begin` at its start), and per point into ``out``
-    its distance, first witness point, force and anchor offset.  ``work``:
-    :func:`contact_work`, its frames already at q when ``posed``.
+    step (O_ON, fixed by :func:`contact_begin` at its start, which also wrote what is
+    read here into ``out``), and per point into ``out`` its distance, first witness
+    point, force and anchor offset.  ``dh``, ``modified``, ``world0``: the model table,
+    its convention and frame 0 in the world; ``axis_frame``, ``revolute``, ``mu`` as in
+    the contact tuple; ``F`` (n + 1, 3, 4): the link frames, already at q when
+    ``posed``.
 
     The contact frame is held over the step: each point keeps the normal n of the step's
     start, and the core points under its witness points move with their bodies (a
@@ -318,43 +324,44 @@ def contact_stage(q, qd, dh, modified, C, posed, tau, work):
     A point of depth δ = −d > 0 pushes the shapes apart with f_n = max(0, k_n δ − c_n ḋ)
     along n (ḋ the separation rate).  With friction (mu > 0) the tangential force is
     −k_T u − c_T v_t, capped at mu · f_n, where u is the part across n of the offset
-    between the point's two anchors (zero where not ``anchored``) and v_t the slip
-    velocity.  The force on b acts at b, its opposite at a."""
-    world0, local, body, axis_frame, revolute = C[0], C[2], C[8], C[9], C[10]
-    rows, gains, mu, anchors, anchored, out = C[13:]
-    F = work[0]
+    between the point's two anchors (zero where not set) and v_t the slip velocity.  The
+    force on b acts at b, its opposite at a.  Inlined where it is called: it reads no
+    array but these (a compiled call's array arguments cost time)."""
     if not posed:
         frames(dh, modified, world0, q, F)
     for j in range(tau.shape[0]):
         tau[j] = 0.0
-    S = local.shape[0]
-    for p in range(rows.shape[0]):
-        i, j = rows[p, 0], rows[p, 1]
-        ka, kb = body[i], body[j]
-        ra = local[i, L.RADIUS]
+    for p in range(out.shape[0]):
         for s in range(POINTS):
-            o = out[p, s]
-            if o[O_ON] == 0.0:
+            if out[p, s, O_ON] == 0.0:
                 continue
-            n = (o[O_NORMAL], o[O_NORMAL + 1], o[O_NORMAL + 2])
-            x = to_world(F, ka, o[O_HELD_A:O_HELD_A + 3])
+            ka, kb = int(out[p, s, O_BODY_A]), int(out[p, s, O_BODY_B])
+            n = (out[p, s, O_NORMAL], out[p, s, O_NORMAL + 1], out[p, s, O_NORMAL + 2])
+            ra = out[p, s, O_RADIUS_A]
+            x = to_world(F, ka, (out[p, s, O_HELD_A], out[p, s, O_HELD_A + 1], out[p, s, O_HELD_A + 2]))
             a = (x[0] + ra * n[0], x[1] + ra * n[1], x[2] + ra * n[2])
             if kb > 0:  # both shapes move
-                rb = local[j, L.RADIUS] if j < S else 0.0
-                y = to_world(F, kb, o[O_HELD_B:O_HELD_B + 3])
+                rb = out[p, s, O_RADIUS_B]
+                y = to_world(F, kb, (out[p, s, O_HELD_B], out[p, s, O_HELD_B + 1], out[p, s, O_HELD_B + 2]))
                 b = (y[0] - rb * n[0], y[1] - rb * n[1], y[2] - rb * n[2])
                 d = dot(n, b) - dot(n, a)
             else:
-                d = o[O_FIXED] - dot(n, a)
+                d = out[p, s, O_FIXED] - dot(n, a)
                 b = (a[0] + d * n[0], a[1] + d * n[1], a[2] + d * n[2])
-            o[O_D] = d
+            out[p, s, O_D] = d
             for c in range(3):
-                o[O_POINT + c] = a[c]
-                o[O_FORCE + c] = 0.0
-                o[O_SLIP + c] = 0.0
-            if gains[p, K_N] > 0.0 and d < 0.0:
-                _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s,
-                               tau, out)
+                out[p, s, O_POINT + c] = a[c]
+                out[p, s, O_FORCE + c] = 0.0
+                out[p, s, O_SLIP + c] = 0.0
+            if out[p, s, O_GAINS + K_N] > 0.0 and d < 0.0:
+                _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, mu, out, p, s, tau)
+
+
+@njit(**JIT)
+def contact_torque(q, qd, dh, modified, C, tau, work):
+    """:func:`contact_stage` at (q, qd) for the contact tuple ``C`` and its
+    :func:`contact_work`: the joint torque of the step's contact points into tau."""
+    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[18], work[0], False, tau)
 
 
 @njit(**INLINE)
@@ -441,6 +448,19 @@ def _remember(out, d, centre):
     out[O_GAP] = d
     for c in range(3):
         out[O_CENTRE + c] = centre[c]
+
+
+@njit(**INLINE)
+def _stage_record(out, ka, kb, ra, rb, gains, anchor, anchored):
+    """What :func:`contact_stage` reads of a contact point besides its frame, into ``out``:
+    its bodies and radii, the pair's gains (4,), its anchors (2, 3) and whether they are set."""
+    out[O_BODY_A], out[O_BODY_B], out[O_RADIUS_A], out[O_RADIUS_B] = ka, kb, ra, rb
+    for c in range(4):
+        out[O_GAINS + c] = gains[c]
+    for c in range(3):
+        out[O_ANCHOR_A + c] = anchor[0, c]
+        out[O_ANCHOR_B + c] = anchor[1, c]
+    out[O_ANCHORED] = 1.0 if anchored else 0.0
 
 
 @njit(**INLINE)

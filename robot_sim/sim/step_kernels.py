@@ -58,15 +58,16 @@ def step_work(n):
 
 @njit(**JIT)
 def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM, zero, bias, M, fext, total, extra,
-           contact, cwork, posed):
+           world0, axis_frame, revolute, mu, out, Fc, posed):
     """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque at (q, v) of
-    the contact tuple's points of the step (``contact_stage``: the step's contact frames,
-    gains and anchors; ``posed`` as it takes it); the ``held`` joints locked when
-    ``any_held`` (their reaction into ``react``); the rest: :func:`step_work`'s arrays.
-    Compiled on its own, not inlined into the step: the step's machine code stays as
-    small and as fast as without contact.  Only the work arrays used are passed: a
-    call's arguments cost time."""
-    contact_stage(q, v, P, modified, contact, posed, extra, cwork)
+    the contact points of the step (``contact_stage``, inlined here: the step's contact
+    frames, gains and anchors in ``out``; ``world0``, ``axis_frame``, ``revolute``, ``mu``
+    of the contact tuple; the link frames Fc, already at q when ``posed``); the ``held``
+    joints locked when ``any_held`` (their reaction into ``react``); the rest:
+    :func:`step_work`'s arrays.  Compiled on its own, not inlined into the step: the
+    step's machine code stays as small and as fast as without contact.  Only the arrays
+    used are passed: a call's arguments cost time."""
+    contact_stage(q, v, P, modified, world0, axis_frame, revolute, mu, out, Fc, posed, extra)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
     fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
@@ -113,7 +114,8 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
                        NM)
             else:
                 _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
-                       work[15], work[16], contact, cwork, False)
+                       work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[18], cwork[0],
+                       False)
             if not all_finite(out):
                 return BAD_ACCEL
         if stage == 0:
@@ -320,7 +322,8 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                                 anchored[:] = kept_anchored
                             return k
                 _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
-                       work[4], work[5], work[6], work[7], work[15], work[16], contact, cwork, True)
+                       work[4], work[5], work[6], work[7], work[15], work[16], contact[0], contact[9], contact[10], mu,
+                       contact[18], cwork[0], True)
                 status = step_one(P, modified, rk4, h, q, qd, t, a_start, True, g0, held, False, False, q1, qd1, qdd1,
                                   react, at, work, contact, cwork)
                 ok = status == OK

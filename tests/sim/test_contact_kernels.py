@@ -62,11 +62,11 @@ def test_the_near_check_bounds_every_other_pair_until_the_arm_has_moved_that_far
 
 
 def _begin_and_stage(contact, C, q, qd, threshold, work):
-    """contact_begin at q (anchors not moved), then contact_stage at q: the torque (n,)."""
+    """contact_begin at q (anchors not moved), then contact_torque at q: the torque (n,)."""
     scene, n = contact.checker.scene, contact.robot.n_dofs
     K.contact_begin(q, qd, scene.dh, contact.robot.is_modified, C, False, False, threshold, work)
     tau = np.empty(n)
-    K.contact_stage(q, qd, scene.dh, contact.robot.is_modified, C, True, tau, work)
+    K.contact_torque(q, qd, scene.dh, contact.robot.is_modified, C, tau, work)
     return tau
 
 
@@ -109,7 +109,7 @@ def test_a_remembered_end_distance_changes_no_contact_torque(resting):
 
 def _held_energy(model, q):
     """Σ ½ k δ² + ½ k_T |u|² of the contact points of the step at q, their frames held from
-    the step's start (contact_stage's distances and anchor offsets)."""
+    the step's start (contact_torque's distances and anchor offsets)."""
     model.torque(q, np.zeros(model.robot.n_dofs))
     C = model.compiled(all_q=False)
     gains, out = C[14], C[18]
