@@ -259,26 +259,14 @@ class ContactModel:
     def _gains_of(self, M: FloatArray, pairs: NDArray[np.int64], points: FloatArray, normals: FloatArray,
                   dt: float) -> FloatArray:
         """[k_n, c_n, k_t, c_t] (B, 4) of the pairs (B,) (rows of the checked pairs) with
-        witness points (B, 2, 3) and normals (B, 3), at the mass matrix M: the normal gains
-        from a pair's effective mass along its normal, the tangential ones from the
-        smallest effective mass across it (never above the normal one); zero for a pair
-        whose shapes cannot move each other."""
-        B, n = len(pairs), self.robot.n_dofs
-        J = np.empty((B, 3, n))
-        for k, p in enumerate(pairs):
-            i, j = self._pairs[p]
-            K.relative_jacobian(self._F, self._body[i], points[k, 0], self._body[j], points[k, 1], self._axis_frame,
-                                self._revolute, J[k])
-        X = np.linalg.solve(M, J.transpose(2, 0, 1).reshape(n, 3 * B)).reshape(n, B, 3)
-        inverse = np.einsum("bin,nbj->bij", J, X)  # (B, 3, 3) inverse operational-space masses
-        normal_inverse = np.einsum("bi,bij,bj->b", normals, inverse, normals)
-        tangent = np.eye(3) - normals[:, :, None] * normals[:, None, :]
-        # the tangential spring is tuned to the lightest direction in the tangent plane
-        tangent_inverse = np.maximum(np.linalg.eigvalsh(tangent @ inverse @ tangent)[:, -1], normal_inverse)
-        omega = OMEGA_DT / dt
-        mobile = normal_inverse > IMMOBILE
-        m_n = 1.0 / np.where(mobile, normal_inverse, 1.0)
-        m_t = 1.0 / np.where(mobile, tangent_inverse, 1.0)
-        gains = np.stack([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
-                          m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega], axis=1)
-        return np.where(mobile[:, None], gains, 0.0)
+        witness points (B, 2, 3) and normals (B, 3), at the mass matrix M and this model's
+        frames: the normal gains from a pair's effective mass along its normal, the
+        tangential ones from the smallest effective mass across it (never above the normal
+        one); zero for a pair whose shapes cannot move each other
+        (:func:`.contact_kernels.pair_gains`)."""
+        rows = self._pairs[pairs]
+        gains = np.empty((len(pairs), 4))
+        K.pair_gains(self._F, np.array(M, dtype=float), self._body[rows[:, 0]], np.ascontiguousarray(points[:, 0]),
+                     self._body[rows[:, 1]], np.ascontiguousarray(points[:, 1]), np.ascontiguousarray(normals),
+                     self._axis_frame, self._revolute, OMEGA_DT / dt, DAMPING_RATIO, IMMOBILE, gains)
+        return gains

@@ -30,8 +30,9 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.collision.batch import _gap, _pose, place_shape
-from robot_sim.collision.closest import dot, point_box
+from robot_sim.collision.closest import any_perpendicular, dot, point_box
 from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
+from robot_sim.kernels.algebra import cholesky, cross, solve_factored
 from robot_sim.kernels.chain import frames
 from robot_sim.kernels.jit import INLINE, JIT, njit
 
@@ -94,7 +95,7 @@ def add_point_torque(F, k, p, force, sign, axis_frame, revolute, tau):
             tau[j] += sign * (z0 * force[0] + z1 * force[1] + z2 * force[2])
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def relative_jacobian(F, ka, pa, kb, pb, axis_frame, revolute, J):
     """J (3, n) = J_kb(pb) − J_ka(pa): the velocity of point pb of body kb relative to
     point pa of body ka per unit joint rate."""
@@ -109,6 +110,55 @@ def relative_jacobian(F, ka, pa, kb, pb, axis_frame, revolute, J):
         J[1, j] -= va[1]
         J[2, j] -= va[2]
         e[j] = 0.0
+
+
+@njit(**JIT)
+def pair_gains(F, M, ka, pa, kb, pb, normals, axis_frame, revolute, omega, zeta, immobile, gains):
+    """The gains [k_n, c_n, k_t, c_t] (B, 4) of B pairs at the link frames F and the mass
+    matrix M (n, n) (overwritten by its Cholesky factor): pair b's bodies ka[b], kb[b],
+    witness points pa[b], pb[b] (3,) and normal normals[b] (3,).  With Λ = J M⁻¹ Jᵀ
+    (3, 3), J the :func:`relative_jacobian` of the witness points, the effective mass
+    along the normal is m_n = 1 / nᵀ Λ n and across it m_t = 1 / λ_max (the largest
+    eigenvalue of Λ in the tangent plane, never below nᵀ Λ n: the lightest direction):
+    k = m ω², c = 2 ζ m ω.  Zero for a pair with nᵀ Λ n <= ``immobile`` [1/kg] (shapes
+    that cannot move each other)."""
+    n = M.shape[0]
+    positive = cholesky(M)
+    J, X, lam = np.empty((3, n)), np.empty((3, n)), np.empty((3, 3))
+    for b in range(ka.shape[0]):
+        relative_jacobian(F, ka[b], pa[b], kb[b], pb[b], axis_frame, revolute, J)
+        for r in range(3):
+            if positive:
+                solve_factored(M, J[r], X[r])
+            else:
+                X[r, :] = math.nan
+        for r in range(3):  # Λ = J M⁻¹ Jᵀ
+            for c in range(3):
+                s = 0.0
+                for k in range(n):
+                    s += J[r, k] * X[c, k]
+                lam[r, c] = s
+        nrm = (normals[b, 0], normals[b, 1], normals[b, 2])
+        t1 = any_perpendicular(nrm)
+        t2 = cross(nrm, t1)
+        n_inv = _quadratic(lam, nrm, nrm)
+        if not n_inv > immobile:
+            gains[b, :] = 0.0
+            continue
+        a, off, c = _quadratic(lam, t1, t1), _quadratic(lam, t1, t2), _quadratic(lam, t2, t2)
+        t_inv = max(0.5 * (a + c) + math.sqrt(0.25 * (a - c) ** 2 + off * off), n_inv)
+        m_n, m_t = 1.0 / n_inv, 1.0 / t_inv
+        gains[b, K_N], gains[b, C_N] = m_n * omega * omega, 2.0 * zeta * m_n * omega
+        gains[b, K_T], gains[b, C_T] = m_t * omega * omega, 2.0 * zeta * m_t * omega
+
+
+@njit(**INLINE)
+def _quadratic(lam, x, y):
+    """xᵀ Λ y for the (3, 3) Λ and 3-tuples x, y."""
+    s = 0.0
+    for r in range(3):
+        s += x[r] * (lam[r, 0] * y[0] + lam[r, 1] * y[1] + lam[r, 2] * y[2])
+    return s
 
 
 @njit(**INLINE)
