@@ -109,6 +109,10 @@ class ContactModel:
         self._anchors = np.zeros((0, K.POINTS, 2, 3))
         self._anchored = np.zeros((0, K.POINTS), dtype=np.bool_)
         self._out = np.zeros((0, K.POINTS, K.OUT))
+        # where the contact frames were last fixed, the reach of the capsule ends then left out,
+        # and whether frames may be held (lever arms fixed): contact_kernels.contact_begin
+        self._fixed = np.full(n + 2, -np.inf)
+        self._fixed[n + 1] = 1.0 if self._arms is not None else 0.0
         self._F = np.empty((n + 1, 3, 4))
         self._near = np.zeros(1, dtype=np.bool_)  # buffers of the compiled near check
         self._stats = np.zeros(2, dtype=np.int64)
@@ -128,7 +132,8 @@ class ContactModel:
         multi-step loop needs fixed."""
         if all_q and self._arms is None:
             return None
-        return (*self._scene, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._out)
+        return (*self._scene, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._fixed,
+                self._out)
 
     def margin(self, q: FloatArray, qd: FloatArray, dt: float) -> float:
         """How close [m] a pair must be at (q, qd) to be active in a step of ``dt`` [s]:
@@ -178,6 +183,7 @@ class ContactModel:
         self._active, self._gains, self._anchors, self._anchored = near, gains, anchors, anchored
         self._rows = np.ascontiguousarray(self._pairs[near])
         self._out = np.zeros((A, K.POINTS, K.OUT))
+        self._fixed[self.robot.n_dofs] = -np.inf  # new pairs: frames fixed anew
         if A:
             self._begin(q, qd, margin)
         return A > 0
@@ -228,8 +234,9 @@ class ContactModel:
         q = np.ascontiguousarray(q, dtype=float)
         qd = np.zeros(self.robot.n_dofs)
         out = self._out.copy()
-        C = self.compiled(all_q=False)[:-1] + (out,)
-        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, False, MIN_MARGIN, self._work)
+        C = self.compiled(all_q=False)[:-2] + (np.full_like(self._fixed, -np.inf), out)  # frames fixed at q
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, False, MIN_MARGIN,
+                        self._begin_work(C))
         self._stage(q, qd, C)
         depth = np.maximum(-out[:, :, K.O_D], 0.0)  # (A, POINTS)
         u = out[:, :, K.O_SLIP:K.O_SLIP + 3]
@@ -242,9 +249,14 @@ class ContactModel:
 
     # ------------------------------------------------------------------ helpers
     def _begin(self, q: FloatArray, qd: FloatArray, margin: float) -> None:
-        """Fix this step's contact frames at its start (q, qd) and move the friction anchors."""
-        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, self.compiled(all_q=False), True, False,
-                        margin, self._work)
+        """Fix (or hold) this step's contact frames at its start (q, qd) and move the friction anchors."""
+        C = self.compiled(all_q=False)
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, True, False, margin,
+                        self._begin_work(C))
+
+    def _begin_work(self, C: tuple) -> tuple:
+        """contact_begin's work arrays for the contact tuple C (room for its current out and fixed)."""
+        return self._work[:4] + (np.empty_like(C[-1]), np.empty_like(C[-2]))
 
     def _stage(self, q: FloatArray, qd: FloatArray, C: tuple) -> FloatArray:
         tau = np.empty(self.robot.n_dofs)

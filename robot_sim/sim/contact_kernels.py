@@ -17,6 +17,7 @@ scene and the active pairs of the current step, in this order:
   arm [m/rad, or 1 for a prismatic joint] (``collision.path.lever_arms``);
 * ``rows`` (A, 2): the active pairs (in the order of ``pairs``), ``gains`` (A, 4),
   ``mu`` the Coulomb coefficient, ``anchors`` (A, POINTS, 2, 3), ``anchored`` (A, POINTS),
+  ``fixed`` (n + 2,) (where the contact frames were fixed, :func:`contact_begin`),
   ``out`` (A, POINTS, OUT) (:func:`contact_begin`, :func:`contact_stage`).
 
 Its work arrays come from :func:`contact_work`.  World frame, metres, newtons; joint
@@ -53,6 +54,13 @@ K_N, C_N, K_T, C_T = range(4)
 OUT = 40
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
+#: How far [m] (:func:`moved`) the arm may move from where the contact frames were last
+#: fixed from the exact narrow phase and a step's start still hold them
+#: (:func:`contact_begin`); the held distances then differ from the exact ones by
+#: second-order terms of this.
+HOLD = 1e-6
+#: Round-off guard [m] of the held distances against the margin.
+HOLD_TOL = 1e-12
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
 #: start of a step are the active ones: only they can touch during the step.
 MIN_MARGIN = 2e-3
@@ -182,7 +190,7 @@ def to_body(F, k, x, out):
         out[c] = F[k, 0, c] * r0 + F[k, 1, c] * r1 + F[k, 2, c] * r2
 
 
-@njit(**INLINE)
+@njit(**JIT)
 def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot):
     """At a step's start (friction on), the anchors of contact point ``slot`` of active
     pair p, of depth −d > 0 (exact witness points a, b and normal nrm; 3-tuples): a point
@@ -252,10 +260,11 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, mu, out, p
 def contact_work(dh, C):
     """The work arrays of :func:`contact_begin`, :func:`contact_stage` and
     :func:`near_slack` for the model table ``dh`` and the contact tuple ``C``: link frames,
-    world records (obstacle rows filled), world bounding centres (obstacle rows filled)
-    and a record."""
+    world records (obstacle rows filled), world bounding centres (obstacle rows filled),
+    a record, and room for ``out`` and ``fixed`` as they were before the last refix."""
     recs0, bc = C[3], C[5]
-    return np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1])
+    return (np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1]), np.empty_like(C[19]),
+            np.empty_like(C[18]))
 
 
 @njit(**INLINE)
@@ -270,6 +279,79 @@ def _pose_active(q, dh, modified, C, work):
                 place_shape(F, link, local, recs, bc, wc, rows[p, s])
 
 
+@njit(**INLINE)
+def _held_point(F, out, p, s):
+    """Contact point s of active pair p in its held frame at the frames F: (d, a, b, n),
+    the distance along the held normal n and the witness points (3-tuples), and its
+    bodies (:func:`contact_stage`); d and a also into ``out``."""
+    ka, kb = int(out[p, s, O_BODY_A]), int(out[p, s, O_BODY_B])
+    n = (out[p, s, O_NORMAL], out[p, s, O_NORMAL + 1], out[p, s, O_NORMAL + 2])
+    ra = out[p, s, O_RADIUS_A]
+    x = to_world(F, ka, (out[p, s, O_HELD_A], out[p, s, O_HELD_A + 1], out[p, s, O_HELD_A + 2]))
+    a = (x[0] + ra * n[0], x[1] + ra * n[1], x[2] + ra * n[2])
+    if kb > 0:  # both shapes move
+        rb = out[p, s, O_RADIUS_B]
+        y = to_world(F, kb, (out[p, s, O_HELD_B], out[p, s, O_HELD_B + 1], out[p, s, O_HELD_B + 2]))
+        b = (y[0] - rb * n[0], y[1] - rb * n[1], y[2] - rb * n[2])
+        d = dot(n, b) - dot(n, a)
+    else:
+        d = out[p, s, O_FIXED] - dot(n, a)
+        b = (a[0] + d * n[0], a[1] + d * n[1], a[2] + d * n[2])
+    out[p, s, O_D] = d
+    for c in range(3):
+        out[p, s, O_POINT + c] = a[c]
+    return d, a, b, n, ka, kb
+
+
+@njit(**INLINE)
+def _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since):
+    """:func:`contact_begin` keeping the frames it fixed last (the arm has moved at most
+    ``since`` <= HOLD [m] since, and no capsule end left out then can come within
+    ``threshold``): each point's distance and witness points in its held frame into
+    ``out``, and with ``update`` the anchors moved and released as from exact ones.
+    False (nothing written but slot 0's held distances) when a pair's distance is within
+    2 ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
+    ``since`` of their common value at the fix, could fall on either side, and the
+    pair's staying active must be decided on the exact one."""
+    for p in range(out.shape[0]):
+        d = _held_point(F, out, p, 0)[0]
+        if abs(d - threshold) <= 2.0 * since + HOLD_TOL:
+            return False
+    for p in range(out.shape[0]):
+        touches = gains[p, K_N] > 0.0
+        for s in range(POINTS):
+            if out[p, s, O_ON] == 0.0:
+                continue
+            d, a, b, n, ka, kb = _held_point(F, out, p, s)
+            if update:
+                if mu > 0.0 and touches and d < 0.0:
+                    _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
+                if not (d < 0.0 and touches):
+                    anchored[p, s] = False
+                _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p],
+                              anchors[p, s], anchored[p, s])
+    return True
+
+
+@njit(**INLINE)
+def _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+    """:func:`contact_begin`'s held case: True (and its work done, through
+    :func:`_held_begin`) when the contact tuple ``C``'s frames fixed last may be held at
+    (q, qd) (the frames F then at q; already when ``posed``), else False (the anchors and
+    the frames held untouched)."""
+    axis_frame, revolute, arms = C[9], C[10], C[12]
+    gains, mu, anchors, anchored, fixed, out = C[14:]
+    n = q.shape[0]
+    if fixed[n + 1] != 1.0 or fixed[n] == -math.inf:
+        return False
+    since = moved(arms, q, fixed[:n])
+    if since > HOLD or fixed[n] - since < threshold:
+        return False
+    if not posed:
+        frames(dh, modified, C[0], q, F)
+    return _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since)
+
+
 @njit(**JIT)
 def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     """Fix the contact frames of a step's start at (q, qd) for the active pairs ``rows`` of
@@ -277,10 +359,18 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     the exact signed distance, first witness point and normal (from the first shape to
     the second), O_ON 1.0 for the points that take part in the step, and the contact
     frame held over the step (O_FIXED, O_HELD_A, O_HELD_B: :func:`_fix`); distance inf
-    and O_ON 0.0 elsewhere.  ``dh``, ``modified``: the model table and its convention; ``threshold``
-    [m]: the step's margin (:func:`margin`); ``work``: :func:`contact_work`, already posed
-    at q when ``posed`` (by :func:`near_slack`).  :func:`contact_stage` then gives the
-    force of every point at any state of the step.
+    and O_ON 0.0 elsewhere.  ``dh``, ``modified``: the model table and its convention;
+    ``threshold`` [m]: the step's margin (:func:`margin`); ``work``: :func:`contact_work`,
+    already posed at q when ``posed`` (by :func:`near_slack`).  :func:`contact_stage` then
+    gives the force of every point at any state of the step.  True when the frames were
+    fixed anew (``out`` and ``fixed`` as they were before are then in ``work[4]``,
+    ``work[5]``).
+
+    The frames fixed last are held instead (:func:`_held_begin`, no narrow phase) while
+    the arm has moved at most :data:`HOLD` since (``fixed`` (n + 2,): q then, the least
+    distance bound of the capsule ends left out then, and 1.0 where the lever arms
+    ``arms`` hold at every q; -inf: fix anew) and no end left out can come within
+    ``threshold``: an arm at rest takes the narrow phase once.
 
     Contact points of a pair (first shape a, second b): their closest points (slot 0,
     always) and, when a is a capsule, the sphere of one of its ends (slot 1 or 2 for its
@@ -300,11 +390,17 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     how far its centre has moved since is still >= ``threshold`` cannot touch during the
     step: its distance is not computed (the result is the same)."""
     link, local, kinds, verts, body, axis_frame, revolute = C[1], C[2], C[4], C[7], C[8], C[9], C[10]
-    rows, gains, mu, anchors, anchored, out = C[13:]
+    rows, gains, mu, anchors, anchored, fixed, out = C[13:]
     F, recs, end = work[0], work[1], work[3]
+    n = q.shape[0]
+    moving = update and mu > 0.0
+    if _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+        return False
+    work[4][:] = out  # what a caller that takes the step back restores
+    work[5][:] = fixed
     if not posed:
         _pose_active(q, dh, modified, C, work)
-    moving = update and mu > 0.0
+    reach = math.inf
     for p in range(rows.shape[0]):
         i, j = rows[p, 0], rows[p, 1]
         ka, kb = body[i], body[j]
@@ -321,8 +417,11 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
             ends = core_ends(kinds[i], recs[i])
             far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
             # against a shape fixed in the world, the end's own motion bounds its change of distance
-            apart = kb <= 0 and out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far]) >= threshold
-            if not apart:
+            bound = out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far])
+            apart = kb <= 0 and bound >= threshold
+            if apart:
+                reach = min(reach, bound)
+            else:
                 end[:] = recs[i]
                 for c in range(3):
                     end[L.POS + c] = ends[far][c]
@@ -337,7 +436,9 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                     first, second = (result, other) if far == 0 else (other, result)
                     e = 0 if first[0] >= second[0] else 1  # the shallower end
                     de, ae, be, ne = first if e == 0 else second
-                if de < threshold:
+                if de >= threshold:
+                    reach = min(reach, de)
+                else:
                     _fix(F, ka, kb, ra, rb, out[p, 1 + e], de, ae, be, ne)
                     if moving and touches and de < 0.0:
                         _move_anchors(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
@@ -347,6 +448,9 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                 anchored[p, e] = False
             if out[p, e, O_ON] == 1.0:
                 _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
+    fixed[:n] = q
+    fixed[n] = reach
+    return True
 
 
 @njit(**INLINE)
@@ -385,22 +489,8 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
         for s in range(POINTS):
             if out[p, s, O_ON] == 0.0:
                 continue
-            ka, kb = int(out[p, s, O_BODY_A]), int(out[p, s, O_BODY_B])
-            n = (out[p, s, O_NORMAL], out[p, s, O_NORMAL + 1], out[p, s, O_NORMAL + 2])
-            ra = out[p, s, O_RADIUS_A]
-            x = to_world(F, ka, (out[p, s, O_HELD_A], out[p, s, O_HELD_A + 1], out[p, s, O_HELD_A + 2]))
-            a = (x[0] + ra * n[0], x[1] + ra * n[1], x[2] + ra * n[2])
-            if kb > 0:  # both shapes move
-                rb = out[p, s, O_RADIUS_B]
-                y = to_world(F, kb, (out[p, s, O_HELD_B], out[p, s, O_HELD_B + 1], out[p, s, O_HELD_B + 2]))
-                b = (y[0] - rb * n[0], y[1] - rb * n[1], y[2] - rb * n[2])
-                d = dot(n, b) - dot(n, a)
-            else:
-                d = out[p, s, O_FIXED] - dot(n, a)
-                b = (a[0] + d * n[0], a[1] + d * n[1], a[2] + d * n[2])
-            out[p, s, O_D] = d
+            d, a, b, n, ka, kb = _held_point(F, out, p, s)
             for c in range(3):
-                out[p, s, O_POINT + c] = a[c]
                 out[p, s, O_FORCE + c] = 0.0
                 out[p, s, O_SLIP + c] = 0.0
             if out[p, s, O_GAINS + K_N] > 0.0 and d < 0.0:
@@ -411,7 +501,7 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
 def contact_torque(q, qd, dh, modified, C, tau, work):
     """:func:`contact_stage` at (q, qd) for the contact tuple ``C`` and its
     :func:`contact_work`: the joint torque of the step's contact points into tau."""
-    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[18], work[0], False, tau)
+    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[19], work[0], False, tau)
 
 
 @njit(**INLINE)

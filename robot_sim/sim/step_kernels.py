@@ -114,7 +114,7 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
                        NM)
             else:
                 _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
-                       work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[18], cwork[0],
+                       work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[19], cwork[0],
                        False)
             if not all_finite(out):
                 return BAD_ACCEL
@@ -241,6 +241,18 @@ def _command(P, modified, law, kp, kd, q_des, qd_des, qdd_des, g0, q, qd, c, a_r
                 c[j] += g[j]
 
 
+@njit(**INLINE)
+def _take_back(contact, cwork, kept, kept_anchored, refixed):
+    """The contact state before a step's ``contact_begin`` (which ``refixed`` the frames or
+    held them), for a caller that takes that step its own way."""
+    if contact[15] > 0.0:
+        contact[16][:] = kept
+        contact[17][:] = kept_anchored
+    if refixed:
+        contact[19][:] = cwork[4]
+        contact[18][:] = cwork[5]
+
+
 @njit(**JIT)
 def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vlim, g0, stops, q, qd, qdd, cmd, tau,
               sat, vsat, any_at, at_limit, limit_torque, recorded, contact):
@@ -313,17 +325,15 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                     kept[:] = anchors
                     kept_anchored[:] = anchored
                 # the contact frames of the step fixed and the anchors moved (near_slack's pose is at q)
-                contact_begin(q, qd, P, modified, contact, True, posed, threshold, cwork)
+                refixed = contact_begin(q, qd, P, modified, contact, True, posed, threshold, cwork)
                 if not posed:  # the active pairs still within the margin (their distances at q just computed)
                     for p in range(rows.shape[0]):
-                        if not contact[18][p, 0, O_D] < threshold:
-                            if mu > 0.0:
-                                anchors[:] = kept
-                                anchored[:] = kept_anchored
+                        if not contact[19][p, 0, O_D] < threshold:
+                            _take_back(contact, cwork, kept, kept_anchored, refixed)
                             return k
                 _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
                        work[4], work[5], work[6], work[7], work[15], work[16], contact[0], contact[9], contact[10], mu,
-                       contact[18], cwork[0], True)
+                       contact[19], cwork[0], True)
                 status = step_one(P, modified, rk4, h, q, qd, t, a_start, True, g0, held, False, False, q1, qd1, qdd1,
                                   react, at, work, contact, cwork)
                 ok = status == OK
@@ -341,10 +351,8 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                 qd1[j] = min(max(v, -vlim[j]), vlim[j])
             ok = squares_finite(q1) and squares_finite(qd1)
         if not ok:
-            if contact is not None:
-                if in_contact and mu > 0.0:  # the caller takes this step from the anchors before it
-                    anchors[:] = kept
-                    anchored[:] = kept_anchored
+            if contact is not None and in_contact:  # the caller takes this step from the contact state before it
+                _take_back(contact, cwork, kept, kept_anchored, refixed)
             return k
         for j in range(n):
             q[j], qd[j], qdd[j], cmd[j], tau[j], sat[j] = q1[j], qd1[j], qdd1[j], c[j], t[j], abs(c[j]) > elim[j]

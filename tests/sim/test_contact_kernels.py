@@ -4,7 +4,8 @@ check while the arm has not moved that far) against every pair's exact distance,
 remembered distance of a capsule's end sphere (which spares its narrow-phase call)
 against a fresh evaluation, on the UR5 resting on the box; and the contact frames held
 over a step against the exact distances: the same energy at the start, second-order
-differences over the step, none for the UR5 on the box's face."""
+differences over the step, none for the UR5 on the box's face; and frames held over
+steps while the arm has not moved HOLD."""
 from __future__ import annotations
 
 import numpy as np
@@ -87,8 +88,9 @@ def test_a_remembered_end_distance_changes_no_contact_torque(resting):
     spared, spared_then_touching = set(), 0
     for s in np.concatenate([np.linspace(0.0, 0.3, 61), np.linspace(0.3, 0.0, 31)]):
         q = q0 + s * np.eye(n)[1]
-        fresh = C[:-1] + (np.zeros_like(out),)
+        fresh = C[:-2] + (np.full_like(C[-2], -np.inf), np.zeros_like(out))  # frames fixed anew, nothing remembered
         before = out[:, 1:, K.O_GAP].copy()
+        C[-2][n] = -np.inf  # the frames fixed anew here too (not held)
         tau = _begin_and_stage(contact, C, q, qd, threshold, work)
         tau_fresh = _begin_and_stage(contact, fresh, q, qd, threshold, K.contact_work(scene.dh, fresh))
         np.testing.assert_array_equal(tau, tau_fresh)
@@ -112,7 +114,7 @@ def _held_energy(model, q):
     the step's start (contact_torque's distances and anchor offsets)."""
     model.torque(q, np.zeros(model.robot.n_dofs))
     C = model.compiled(all_q=False)
-    gains, out = C[14], C[18]
+    gains, out = C[14], C[-1]
     depth = np.where(out[:, :, K.O_ON] == 1.0, np.maximum(-out[:, :, K.O_D], 0.0), 0.0)
     u = out[:, :, K.O_SLIP:K.O_SLIP + 3]
     spring = gains[:, K.K_N, None] * depth**2 + gains[:, K.K_T, None] * np.sum(u * u, axis=2)
@@ -165,3 +167,29 @@ def test_held_contact_frames_on_a_face_are_exact():
     for step in _within_margin(model, q0, np.random.default_rng(1), 40):
         q = q0 + step
         assert _held_energy(model, q) == pytest.approx(model.stored_energy(q), rel=1e-9, abs=1e-12)
+
+
+def test_a_resting_arm_holds_its_contact_frames_until_it_has_moved_hold(resting):
+    """A step's start within HOLD of where the frames were fixed keeps them (no narrow
+    phase), with the torque of frames fixed anew there to 1e-9; once the arm has moved
+    farther, they are fixed anew."""
+    sim, contact = resting, resting.contact
+    dh, modified, n = contact.checker.scene.dh, sim.robot.is_modified, sim.robot.n_dofs
+    C = contact.compiled()
+    arms, fixed = C[12], C[-2]
+    q0, qd = sim.q.copy(), np.zeros(n)
+    threshold = K.margin(arms, qd, sim.dt)
+    work = K.contact_work(dh, C)
+    fixed[n] = -np.inf
+    assert K.contact_begin(q0, qd, dh, modified, C, False, False, threshold, work)  # fixed anew
+    direction = np.linspace(1.0, -0.5, n)
+    for share, held in ((0.5, True), (0.99, True), (1.5, False)):
+        q = q0 + direction * (share * K.HOLD / K.moved(arms, q0 + direction, q0))
+        fixed[:n] = q0
+        assert K.contact_begin(q, qd, dh, modified, C, False, False, threshold, work) != held
+        tau = np.empty(n)
+        K.contact_torque(q, qd, dh, modified, C, tau, work)
+        fresh = C[:-2] + (np.full_like(fixed, -np.inf), np.zeros_like(C[-1]))
+        expected = _begin_and_stage(contact, fresh, q, qd, threshold, K.contact_work(dh, fresh))
+        np.testing.assert_allclose(tau, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+        assert np.abs(tau).max() > 1.0
