@@ -19,8 +19,17 @@ along the normal there, 1 / (nᵀ J M⁻¹ Jᵀ n), k = m ω² and c = 2 ζ m ω
 :data:`OMEGA_DT` and ζ = :data:`DAMPING_RATIO` (a critically damped contact about 20
 steps per period: stable for RK4 and semi-implicit Euler at the 1 ms step).  Constant
 gains make the normal spring conservative (potential ½ k δ²) and the damper and the cap
-only remove energy: contact never adds energy to the arm.  The resting depth under a
-load f is f / k; a point mass m resting on the floor sinks g / ω² (0.11 mm at 1 ms).
+only remove energy: contact never adds energy to the arm within a step.  The resting
+depth under a load f is f / k; a point mass m resting on the floor sinks g / ω² (0.11 mm
+at 1 ms).
+
+Contact frames, held over a step: its start takes each contact point's normal and
+witness points from the exact narrow phase; its integrator stages take the depth along
+that normal from the core points under the witness points moved with their bodies
+(:func:`.contact_kernels.contact_stage`): exact at the start, second order in the
+step's motion after it, exact for a sphere or capsule on a face of a fixed shape.  While
+the arm has moved less than :data:`.contact_kernels.HOLD` since, later steps keep the
+frames (:func:`.contact_kernels.contact_begin`).
 
 World frame, metres, newtons, seconds; joint torques in N·m or N.
 """
@@ -79,7 +88,8 @@ class ContactModel:
     :data:`DEFAULT_FRICTION`).
 
     Stepping: :meth:`begin_step` at the start of every step (it picks the active pairs,
-    sets their gains and moves the friction anchors of slipping ones), then :meth:`step`
+    sets their gains, fixes their contact frames and moves the friction anchors of
+    slipping ones), then :meth:`step`
     (the whole step in one compiled call) or :meth:`torque` at every stage state of the
     integrator, with the same gains and anchors throughout the step.
     """
@@ -145,8 +155,8 @@ class ContactModel:
 
     def begin_step(self, q: ArrayLike, qd: ArrayLike, dt: float) -> bool:
         """Start a step of ``dt`` [s] from (q, qd): choose the active pairs, fix the gains of
-        pairs that just became active, move the anchors of slipping pairs; True when some
-        pair is active."""
+        pairs that just became active, fix (or hold) the contact frames, move the anchors
+        of slipping pairs; True when some pair is active."""
         q = np.ascontiguousarray(q, dtype=float)
         qd = np.ascontiguousarray(qd, dtype=float)
         scene = self.checker.scene
