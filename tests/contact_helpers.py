@@ -1,5 +1,5 @@
 """Small robots with known contact answers: carriages of prismatic joints carrying a sphere;
-and a UR5 over a box to drop onto it."""
+a UR5 over a box to drop onto it; a Panda whose links are pushed into each other."""
 from __future__ import annotations
 
 import dataclasses
@@ -51,3 +51,14 @@ def ur5_over_box() -> tuple:
     top = lowest - 0.3
     box = Box([0.6, 0.6, top], np.array(HomogeneousTransform.from_xyz_rpy([-0.55, -0.1, top / 2], [0, 0, 0]).mat))
     return rob, World({"box": box})
+
+
+def panda_in_self_contact() -> tuple:
+    """The Panda, its checker of its own links (no floor) and a configuration where two of
+    its links overlap by 2 to 10 mm."""
+    rob = robot("panda")
+    checker = CollisionChecker(rob, World(floor=False))
+    rng = np.random.default_rng(0)
+    Q = rob.q_home + rng.uniform(-2.5, 2.5, (4000, rob.n_dofs))
+    d = checker.distance(Q)
+    return rob, checker, Q[np.flatnonzero((d < -0.002) & (d > -0.01))[0]]

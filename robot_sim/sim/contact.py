@@ -19,8 +19,17 @@ along the normal there, 1 / (nᵀ J M⁻¹ Jᵀ n), k = m ω² and c = 2 ζ m ω
 :data:`OMEGA_DT` and ζ = :data:`DAMPING_RATIO` (a critically damped contact about 20
 steps per period: stable for RK4 and semi-implicit Euler at the 1 ms step).  Constant
 gains make the normal spring conservative (potential ½ k δ²) and the damper and the cap
-only remove energy: contact never adds energy to the arm.  The resting depth under a
-load f is f / k; a point mass m resting on the floor sinks g / ω² (0.11 mm at 1 ms).
+only remove energy: contact never adds energy to the arm within a step.  The resting
+depth under a load f is f / k; a point mass m resting on the floor sinks g / ω² (0.11 mm
+at 1 ms).
+
+Contact frames, held over a step: its start takes each contact point's normal and
+witness points from the exact narrow phase; its integrator stages take the depth along
+that normal from the core points under the witness points moved with their bodies
+(:func:`.contact_kernels.contact_stage`): exact at the start, second order in the
+step's motion after it, exact for a sphere or capsule on a face of a fixed shape.  While
+the arm has moved less than :data:`.contact_kernels.HOLD` since, later steps keep the
+frames (:func:`.contact_kernels.contact_begin`).
 
 World frame, metres, newtons, seconds; joint torques in N·m or N.
 """
@@ -79,7 +88,8 @@ class ContactModel:
     :data:`DEFAULT_FRICTION`).
 
     Stepping: :meth:`begin_step` at the start of every step (it picks the active pairs,
-    sets their gains and moves the friction anchors of slipping ones), then :meth:`step`
+    sets their gains, fixes their contact frames and moves the friction anchors of
+    slipping ones), then :meth:`step`
     (the whole step in one compiled call) or :meth:`torque` at every stage state of the
     integrator, with the same gains and anchors throughout the step.
     """
@@ -109,6 +119,10 @@ class ContactModel:
         self._anchors = np.zeros((0, K.POINTS, 2, 3))
         self._anchored = np.zeros((0, K.POINTS), dtype=np.bool_)
         self._out = np.zeros((0, K.POINTS, K.OUT))
+        # where the contact frames were last fixed, the reach of the capsule ends then left out,
+        # and whether frames may be held (lever arms fixed): contact_kernels.contact_begin
+        self._fixed = np.full(n + 2, -np.inf)
+        self._fixed[n + 1] = 1.0 if self._arms is not None else 0.0
         self._F = np.empty((n + 1, 3, 4))
         self._near = np.zeros(1, dtype=np.bool_)  # buffers of the compiled near check
         self._stats = np.zeros(2, dtype=np.int64)
@@ -128,7 +142,8 @@ class ContactModel:
         multi-step loop needs fixed."""
         if all_q and self._arms is None:
             return None
-        return (*self._scene, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._out)
+        return (*self._scene, self._rows, self._gains, self.friction, self._anchors, self._anchored, self._fixed,
+                self._out)
 
     def margin(self, q: FloatArray, qd: FloatArray, dt: float) -> float:
         """How close [m] a pair must be at (q, qd) to be active in a step of ``dt`` [s]:
@@ -140,8 +155,8 @@ class ContactModel:
 
     def begin_step(self, q: ArrayLike, qd: ArrayLike, dt: float) -> bool:
         """Start a step of ``dt`` [s] from (q, qd): choose the active pairs, fix the gains of
-        pairs that just became active, move the anchors of slipping pairs; True when some
-        pair is active."""
+        pairs that just became active, fix (or hold) the contact frames, move the anchors
+        of slipping pairs; True when some pair is active."""
         q = np.ascontiguousarray(q, dtype=float)
         qd = np.ascontiguousarray(qd, dtype=float)
         scene = self.checker.scene
@@ -157,36 +172,39 @@ class ContactModel:
                            np.empty_like(scene.recs0))
         near = np.flatnonzero(d < margin)
         if np.array_equal(near, self._active):  # the same pairs as in the last step: gains and anchors stay
-            if near.size and self.friction > 0.0:
-                self._evaluate(q, qd, update=True)
+            if near.size:
+                self._begin(q, qd, margin)
             return near.size > 0
         previous = {int(p): k for k, p in enumerate(self._active)}
         A = near.size
         gains, anchors = np.zeros((A, 4)), np.zeros((A, K.POINTS, 2, 3))
         anchored = np.zeros((A, K.POINTS), dtype=np.bool_)
-        self._frames(q)
-        M = None
+        new = []
         for k, p in enumerate(near):
             old = previous.get(int(p))
-            if old is not None:
+            if old is None:
+                new.append(k)
+            else:
                 gains[k], anchors[k], anchored[k] = self._gains[old], self._anchors[old], self._anchored[old]
-                continue
-            if M is None:
-                M = dynamics.mass_matrix(self.robot, q)
-            gains[k] = self._gains_at(M, int(p), pts[p], nrm[p], dt)
+        if new:
+            self._frames(q)
+            gains[new] = self._gains_of(dynamics.mass_matrix(self.robot, q), near[new], pts[near[new]],
+                                        nrm[near[new]], dt)
         self._active, self._gains, self._anchors, self._anchored = near, gains, anchors, anchored
         self._rows = np.ascontiguousarray(self._pairs[near])
         self._out = np.zeros((A, K.POINTS, K.OUT))
-        if A and self.friction > 0.0:
-            self._evaluate(q, qd, update=True)
+        self._fixed[self.robot.n_dofs] = -np.inf  # new pairs: frames fixed anew
+        if A:
+            self._begin(q, qd, margin)
         return A > 0
 
     def torque(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
         """Joint torque (n,) [N·m or N] of the active pairs' contact forces at (q, qd), with
-        this step's gains and anchors (zero without active pairs)."""
+        this step's contact frames, gains and anchors (zero without active pairs)."""
         if self._active.size == 0:
             return np.zeros(self.robot.n_dofs)
-        return self._evaluate(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float))
+        return self._stage(np.ascontiguousarray(q, dtype=float), np.ascontiguousarray(qd, dtype=float),
+                           self.compiled(all_q=False))
 
     def step(self, q: FloatArray, qd: FloatArray, tau: FloatArray, a1: FloatArray | None, h: float, rk4: bool,
              g0: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -218,14 +236,20 @@ class ContactModel:
         return found
 
     def stored_energy(self, q: ArrayLike) -> float:
-        """Potential energy [J] in the active pairs' springs at q: Σ ½ k δ² + ½ k_T |u|²."""
+        """Potential energy [J] in the active pairs' springs at q, with contact frames fixed
+        at q (the exact distances): Σ ½ k δ² + ½ k_T |u|².  The step's own frames are kept."""
         q = check_joint_vector(q, self.robot.n_dofs)
         if self._active.size == 0:
             return 0.0
         q = np.ascontiguousarray(q, dtype=float)
-        self._evaluate(q, np.zeros(self.robot.n_dofs))
-        depth = np.maximum(-self._out[:, :, K.O_D], 0.0)  # (A, POINTS)
-        u = self._out[:, :, K.O_SLIP:K.O_SLIP + 3]
+        qd = np.zeros(self.robot.n_dofs)
+        out = self._out.copy()
+        C = self.compiled(all_q=False)[:-2] + (np.full_like(self._fixed, -np.inf), out)  # frames fixed at q
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, False, False, MIN_MARGIN,
+                        self._begin_work(C))
+        self._stage(q, qd, C)
+        depth = np.maximum(-out[:, :, K.O_D], 0.0)  # (A, POINTS)
+        u = out[:, :, K.O_SLIP:K.O_SLIP + 3]
         spring = self._gains[:, K.K_N, None] * depth**2 + self._gains[:, K.K_T, None] * np.sum(u * u, axis=2)
         return float(0.5 * np.sum(np.where(depth > 0.0, spring, 0.0)))
 
@@ -234,11 +258,19 @@ class ContactModel:
         self.__init__(self.checker, friction=self.friction)
 
     # ------------------------------------------------------------------ helpers
-    def _evaluate(self, q: FloatArray, qd: FloatArray, update: bool = False) -> FloatArray:
-        scene = self.checker.scene
+    def _begin(self, q: FloatArray, qd: FloatArray, margin: float) -> None:
+        """Fix (or hold) this step's contact frames at its start (q, qd) and move the friction anchors."""
+        C = self.compiled(all_q=False)
+        K.contact_begin(q, qd, self.checker.scene.dh, self.robot.is_modified, C, True, False, margin,
+                        self._begin_work(C))
+
+    def _begin_work(self, C: tuple) -> tuple:
+        """contact_begin's work arrays for the contact tuple C (room for its current out and fixed)."""
+        return self._work[:4] + (np.empty_like(C[-1]), np.empty_like(C[-2]))
+
+    def _stage(self, q: FloatArray, qd: FloatArray, C: tuple) -> FloatArray:
         tau = np.empty(self.robot.n_dofs)
-        K.contact_torque(q, qd, scene.dh, self.robot.is_modified, self.compiled(all_q=False), update, False, tau,
-                         self._work)
+        K.contact_torque(q, qd, self.checker.scene.dh, self.robot.is_modified, C, tau, self._work)
         return tau
 
     def _frames(self, q: FloatArray) -> None:
@@ -246,22 +278,17 @@ class ContactModel:
         scene = self.checker.scene
         chain.frames(scene.dh, self.robot.is_modified, scene.world0, q, self._F)
 
-    def _gains_at(self, M: FloatArray, p: int, points: FloatArray, normal: FloatArray, dt: float) -> FloatArray:
-        """[k_n, c_n, k_t, c_t] of pair p: the normal gains from its effective mass along
-        ``normal``, the tangential ones from the smallest effective mass across it (never
-        above the normal one); zero for a pair whose shapes cannot move each other."""
-        i, j = self._pairs[p]
-        J = np.empty((3, self.robot.n_dofs))
-        K.relative_jacobian(self._F, self._body[i], points[0], self._body[j], points[1], self._axis_frame,
-                            self._revolute, J)
-        inverse = J @ np.linalg.solve(M, J.T)  # (3, 3) inverse operational-space mass
-        tangent = np.eye(3) - np.outer(normal, normal)
-        normal_inverse = float(normal @ inverse @ normal)
-        if not normal_inverse > IMMOBILE:
-            return np.zeros(4)
-        # the tangential spring is tuned to the lightest direction in the tangent plane
-        tangent_inverse = max(float(np.linalg.eigvalsh(tangent @ inverse @ tangent)[-1]), normal_inverse)
-        omega = OMEGA_DT / dt
-        m_n, m_t = 1.0 / normal_inverse, 1.0 / tangent_inverse
-        return np.array([m_n * omega**2, 2.0 * DAMPING_RATIO * m_n * omega,
-                         m_t * omega**2, 2.0 * DAMPING_RATIO * m_t * omega])
+    def _gains_of(self, M: FloatArray, pairs: NDArray[np.int64], points: FloatArray, normals: FloatArray,
+                  dt: float) -> FloatArray:
+        """[k_n, c_n, k_t, c_t] (B, 4) of the pairs (B,) (rows of the checked pairs) with
+        witness points (B, 2, 3) and normals (B, 3), at the mass matrix M and this model's
+        frames: the normal gains from a pair's effective mass along its normal, the
+        tangential ones from the smallest effective mass across it (never above the normal
+        one); zero for a pair whose shapes cannot move each other
+        (:func:`.contact_kernels.pair_gains`)."""
+        rows = self._pairs[pairs]
+        gains = np.empty((len(pairs), 4))
+        K.pair_gains(self._F, np.array(M, dtype=float), self._body[rows[:, 0]], np.ascontiguousarray(points[:, 0]),
+                     self._body[rows[:, 1]], np.ascontiguousarray(points[:, 1]), np.ascontiguousarray(normals),
+                     self._axis_frame, self._revolute, OMEGA_DT / dt, DAMPING_RATIO, IMMOBILE, gains)
+        return gains

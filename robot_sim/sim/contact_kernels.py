@@ -1,5 +1,6 @@
 """Compiled penalty-contact terms (:mod:`.contact`): point Jacobians of link points, the
-joint torque of the contacts of one configuration, the check that the pairs near
+contact frames fixed at a step's start and the joint torque of its contacts at any
+state of the step, the check that the pairs near
 contact are still the active ones, and the bound on how close a pair must be to become
 active.  The step of an arm in contact is the one stepping kernel's
 (:func:`robot_sim.sim.step_kernels.step_one` with a contact tuple).
@@ -16,7 +17,8 @@ scene and the active pairs of the current step, in this order:
   arm [m/rad, or 1 for a prismatic joint] (``collision.path.lever_arms``);
 * ``rows`` (A, 2): the active pairs (in the order of ``pairs``), ``gains`` (A, 4),
   ``mu`` the Coulomb coefficient, ``anchors`` (A, POINTS, 2, 3), ``anchored`` (A, POINTS),
-  ``out`` (A, POINTS, OUT) (:func:`contact_torque`).
+  ``fixed`` (n + 2,) (where the contact frames were fixed, :func:`contact_begin`),
+  ``out`` (A, POINTS, OUT) (:func:`contact_begin`, :func:`contact_stage`).
 
 Its work arrays come from :func:`contact_work`.  World frame, metres, newtons; joint
 torques in N·m (revolute) or N (prismatic).
@@ -29,8 +31,9 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.collision.batch import _gap, _pose, place_shape
-from robot_sim.collision.closest import dot, point_box
+from robot_sim.collision.closest import any_perpendicular, dot, point_box
 from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
+from robot_sim.kernels.algebra import cholesky, cross, solve_factored
 from robot_sim.kernels.chain import frames
 from robot_sim.kernels.jit import INLINE, JIT, njit
 
@@ -40,13 +43,24 @@ K_N, C_N, K_T, C_T = range(4)
 # shape's witness point, the normal (first toward second), the force on the first shape,
 # the tangential offset u between its friction anchors; for a capsule's end spheres
 # (slots 1, 2) also the last distance computed of that end to an obstacle and where the
-# end's centre was then (:func:`contact_torque`: a bound that spares the call).
-O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE = 0, 1, 4, 7, 10, 13, 14
-OUT = 17
-#: Round-off guard [m] of the distance bounds that spare a narrow-phase call.
-BOUND_TOL = 1e-9
+# end's centre was then (:func:`contact_begin`: a bound that spares the call); whether
+# the point takes part in the step (1.0), n·b at the step's start, the two shapes' core
+# points under their witness points, each in its body's frame (the contact frame held
+# over the step), and what :func:`contact_stage` reads besides: the two bodies, the two
+# radii, the pair's gains, the two anchors and whether they are set (1.0).
+(O_D, O_POINT, O_NORMAL, O_FORCE, O_SLIP, O_GAP, O_CENTRE, O_ON, O_FIXED, O_HELD_A, O_HELD_B, O_BODY_A, O_BODY_B,
+ O_RADIUS_A, O_RADIUS_B, O_GAINS, O_ANCHOR_A, O_ANCHOR_B, O_ANCHORED) = (
+    0, 1, 4, 7, 10, 13, 14, 17, 18, 19, 22, 25, 26, 27, 28, 29, 33, 36, 39)
+OUT = 40
 #: Contact slots per pair: the closest points, then a capsule's two end spheres.
 POINTS = 3
+#: How far [m] (:func:`moved`) the arm may move from where the contact frames were last
+#: fixed from the exact narrow phase and a step's start still hold them
+#: (:func:`contact_begin`); the held distances then differ from the exact ones by
+#: second-order terms of this.
+HOLD = 1e-6
+#: Round-off guard [m] of the held distances against the margin.
+HOLD_TOL = 1e-12
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
 #: start of a step are the active ones: only they can touch during the step.
 MIN_MARGIN = 2e-3
@@ -89,7 +103,7 @@ def add_point_torque(F, k, p, force, sign, axis_frame, revolute, tau):
             tau[j] += sign * (z0 * force[0] + z1 * force[1] + z2 * force[2])
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def relative_jacobian(F, ka, pa, kb, pb, axis_frame, revolute, J):
     """J (3, n) = J_kb(pb) − J_ka(pa): the velocity of point pb of body kb relative to
     point pa of body ka per unit joint rate."""
@@ -104,6 +118,55 @@ def relative_jacobian(F, ka, pa, kb, pb, axis_frame, revolute, J):
         J[1, j] -= va[1]
         J[2, j] -= va[2]
         e[j] = 0.0
+
+
+@njit(**JIT)
+def pair_gains(F, M, ka, pa, kb, pb, normals, axis_frame, revolute, omega, zeta, immobile, gains):
+    """The gains [k_n, c_n, k_t, c_t] (B, 4) of B pairs at the link frames F and the mass
+    matrix M (n, n) (overwritten by its Cholesky factor): pair b's bodies ka[b], kb[b],
+    witness points pa[b], pb[b] (3,) and normal normals[b] (3,).  With Λ = J M⁻¹ Jᵀ
+    (3, 3), J the :func:`relative_jacobian` of the witness points, the effective mass
+    along the normal is m_n = 1 / nᵀ Λ n and across it m_t = 1 / λ_max (the largest
+    eigenvalue of Λ in the tangent plane, never below nᵀ Λ n: the lightest direction):
+    k = m ω², c = 2 ζ m ω.  Zero for a pair with nᵀ Λ n <= ``immobile`` [1/kg] (shapes
+    that cannot move each other)."""
+    n = M.shape[0]
+    positive = cholesky(M)
+    J, X, lam = np.empty((3, n)), np.empty((3, n)), np.empty((3, 3))
+    for b in range(ka.shape[0]):
+        relative_jacobian(F, ka[b], pa[b], kb[b], pb[b], axis_frame, revolute, J)
+        for r in range(3):
+            if positive:
+                solve_factored(M, J[r], X[r])
+            else:
+                X[r, :] = math.nan
+        for r in range(3):  # Λ = J M⁻¹ Jᵀ
+            for c in range(3):
+                s = 0.0
+                for k in range(n):
+                    s += J[r, k] * X[c, k]
+                lam[r, c] = s
+        nrm = (normals[b, 0], normals[b, 1], normals[b, 2])
+        t1 = any_perpendicular(nrm)
+        t2 = cross(nrm, t1)
+        n_inv = _quadratic(lam, nrm, nrm)
+        if not n_inv > immobile:
+            gains[b, :] = 0.0
+            continue
+        a, off, c = _quadratic(lam, t1, t1), _quadratic(lam, t1, t2), _quadratic(lam, t2, t2)
+        t_inv = max(0.5 * (a + c) + math.sqrt(0.25 * (a - c) ** 2 + off * off), n_inv)
+        m_n, m_t = 1.0 / n_inv, 1.0 / t_inv
+        gains[b, K_N], gains[b, C_N] = m_n * omega * omega, 2.0 * zeta * m_n * omega
+        gains[b, K_T], gains[b, C_T] = m_t * omega * omega, 2.0 * zeta * m_t * omega
+
+
+@njit(**INLINE)
+def _quadratic(lam, x, y):
+    """xᵀ Λ y for the (3, 3) Λ and 3-tuples x, y."""
+    s = 0.0
+    for r in range(3):
+        s += x[r] * (lam[r, 0] * y[0] + lam[r, 1] * y[1] + lam[r, 2] * y[2])
+    return s
 
 
 @njit(**INLINE)
@@ -127,47 +190,61 @@ def to_body(F, k, x, out):
         out[c] = F[k, 0, c] * r0 + F[k, 1, c] * r1 + F[k, 2, c] * r2
 
 
-@njit(**INLINE)
-def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot, update,
-                   tau, out):
-    """Contact point ``slot`` of active pair p, of depth −d > 0 (witness points a, b,
-    normal nrm from the first shape to the second; 3-tuples).  Without ``update``: its
-    force into tau (joint torque) and out[p, slot] (force on the first shape, anchor
-    offset).  With ``update`` (a step's start, friction on) nothing but its anchors: a
-    point touching for the first time is anchored at its witness points, and a slipping
-    one's second anchor is slid back onto the friction cap."""
+@njit(**JIT)
+def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot):
+    """At a step's start (friction on), the anchors of contact point ``slot`` of active
+    pair p, of depth −d > 0 (exact witness points a, b and normal nrm; 3-tuples): a point
+    touching for the first time is anchored at its witness points, and a slipping one's
+    second anchor is slid back onto the friction cap μ f_n / k_T."""
     g = gains[p]
     anchor = anchors[p, slot]
-    va = point_velocity(F, ka, a, qd, axis_frame, revolute)
-    vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
-    v0, v1, v2 = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
-    rate = v0 * nrm[0] + v1 * nrm[1] + v2 * nrm[2]
-    fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
-    if update and not anchored[p, slot]:
+    if not anchored[p, slot]:
         to_body(F, ka, a, anchor[0])
         to_body(F, kb, b, anchor[1])
         anchored[p, slot] = True
         return
+    va = point_velocity(F, ka, a, qd, axis_frame, revolute)
+    vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
+    rate = (vb[0] - va[0]) * nrm[0] + (vb[1] - va[1]) * nrm[1] + (vb[2] - va[2]) * nrm[2]
+    fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
+    xa = to_world(F, ka, anchor[0])
+    xb = to_world(F, kb, anchor[1])
+    w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
+    wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
+    u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
+    size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+    cap = mu * fn / g[K_T]
+    if size > cap:
+        keep = 1.0 - cap / size
+        to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
+
+
+@njit(**INLINE)
+def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, mu, out, p, slot, tau):
+    """Contact point ``slot`` of active pair p at depth −d > 0 along its normal nrm (from
+    the first shape to the second; witness points a, b; 3-tuples) on bodies ka, kb: its
+    force into tau (joint torque) and out[p, slot] (force on the first shape, anchor
+    offset), with the gains and anchors ``out`` holds (:func:`_stage_record`)."""
+    k_n, c_n = out[p, slot, O_GAINS + K_N], out[p, slot, O_GAINS + C_N]
+    k_t, c_t = out[p, slot, O_GAINS + K_T], out[p, slot, O_GAINS + C_T]
+    va = point_velocity(F, ka, a, qd, axis_frame, revolute)
+    vb = point_velocity(F, kb, b, qd, axis_frame, revolute)
+    v0, v1, v2 = vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]
+    rate = v0 * nrm[0] + v1 * nrm[1] + v2 * nrm[2]
+    fn = max(k_n * (-d) - c_n * rate, 0.0)
     u0 = u1 = u2 = 0.0
-    if mu > 0.0 and anchored[p, slot]:
-        xa = to_world(F, ka, anchor[0])
-        xb = to_world(F, kb, anchor[1])
+    if mu > 0.0 and out[p, slot, O_ANCHORED] == 1.0:
+        xa = to_world(F, ka, (out[p, slot, O_ANCHOR_A], out[p, slot, O_ANCHOR_A + 1], out[p, slot, O_ANCHOR_A + 2]))
+        xb = to_world(F, kb, (out[p, slot, O_ANCHOR_B], out[p, slot, O_ANCHOR_B + 1], out[p, slot, O_ANCHOR_B + 2]))
         w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
         wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
         u0, u1, u2 = w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
-        if update:
-            size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-            cap = mu * fn / g[K_T]
-            if size > cap:
-                keep = 1.0 - cap / size
-                to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
-            return
     f0, f1, f2 = fn * nrm[0], fn * nrm[1], fn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
-        g0 = -g[K_T] * u0 - g[C_T] * t0
-        g1 = -g[K_T] * u1 - g[C_T] * t1
-        g2 = -g[K_T] * u2 - g[C_T] * t2
+        g0 = -k_t * u0 - c_t * t0
+        g1 = -k_t * u1 - c_t * t1
+        g2 = -k_t * u2 - c_t * t2
         size = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
         s = mu * fn / size if size > mu * fn else 1.0
         f0 += s * g0
@@ -175,104 +252,256 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu,
         f2 += s * g2
     add_point_torque(F, kb, b, (f0, f1, f2), 1.0, axis_frame, revolute, tau)
     add_point_torque(F, ka, a, (f0, f1, f2), -1.0, axis_frame, revolute, tau)
-    o = out[p, slot]
-    o[O_FORCE], o[O_FORCE + 1], o[O_FORCE + 2] = -f0, -f1, -f2
-    o[O_SLIP], o[O_SLIP + 1], o[O_SLIP + 2] = u0, u1, u2
+    out[p, slot, O_FORCE], out[p, slot, O_FORCE + 1], out[p, slot, O_FORCE + 2] = -f0, -f1, -f2
+    out[p, slot, O_SLIP], out[p, slot, O_SLIP + 1], out[p, slot, O_SLIP + 2] = u0, u1, u2
 
 
 @njit(**JIT)
 def contact_work(dh, C):
-    """The work arrays of :func:`contact_torque` and :func:`near_slack` for the model
-    table ``dh`` and the contact tuple ``C``: link frames, world records (obstacle rows
-    filled), world bounding centres (obstacle rows filled) and a record."""
+    """The work arrays of :func:`contact_begin`, :func:`contact_stage` and
+    :func:`near_slack` for the model table ``dh`` and the contact tuple ``C``: link frames,
+    world records (obstacle rows filled), world bounding centres (obstacle rows filled),
+    a record, and room for ``out`` and ``fixed`` as they were before the last refix."""
     recs0, bc = C[3], C[5]
-    return np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1])
+    return (np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1]), np.empty_like(C[19]),
+            np.empty_like(C[18]))
+
+
+@njit(**INLINE)
+def _pose_active(q, dh, modified, C, work):
+    """Frames at q and the world records of the active pairs' robot shapes into ``work``."""
+    world0, link, local, bc, rows = C[0], C[1], C[2], C[5], C[13]
+    F, recs, wc = work[0], work[1], work[2]
+    frames(dh, modified, world0, q, F)
+    for p in range(rows.shape[0]):
+        for s in range(2):
+            if rows[p, s] < link.shape[0]:
+                place_shape(F, link, local, recs, bc, wc, rows[p, s])
+
+
+@njit(**INLINE)
+def _held_point(F, out, p, s):
+    """Contact point s of active pair p in its held frame at the frames F: (d, a, b, n),
+    the distance along the held normal n and the witness points (3-tuples), and its
+    bodies (:func:`contact_stage`); d and a also into ``out``."""
+    ka, kb = int(out[p, s, O_BODY_A]), int(out[p, s, O_BODY_B])
+    n = (out[p, s, O_NORMAL], out[p, s, O_NORMAL + 1], out[p, s, O_NORMAL + 2])
+    ra = out[p, s, O_RADIUS_A]
+    x = to_world(F, ka, (out[p, s, O_HELD_A], out[p, s, O_HELD_A + 1], out[p, s, O_HELD_A + 2]))
+    a = (x[0] + ra * n[0], x[1] + ra * n[1], x[2] + ra * n[2])
+    if kb > 0:  # both shapes move
+        rb = out[p, s, O_RADIUS_B]
+        y = to_world(F, kb, (out[p, s, O_HELD_B], out[p, s, O_HELD_B + 1], out[p, s, O_HELD_B + 2]))
+        b = (y[0] - rb * n[0], y[1] - rb * n[1], y[2] - rb * n[2])
+        d = dot(n, b) - dot(n, a)
+    else:
+        d = out[p, s, O_FIXED] - dot(n, a)
+        b = (a[0] + d * n[0], a[1] + d * n[1], a[2] + d * n[2])
+    out[p, s, O_D] = d
+    for c in range(3):
+        out[p, s, O_POINT + c] = a[c]
+    return d, a, b, n, ka, kb
+
+
+@njit(**INLINE)
+def _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since):
+    """:func:`contact_begin` keeping the frames it fixed last (the arm has moved at most
+    ``since`` <= HOLD [m] since, and no capsule end left out then can come within
+    ``threshold``): each point's distance and witness points in its held frame into
+    ``out``, and with ``update`` the anchors moved and released as from exact ones.
+    False (nothing written but slot 0's held distances) when a pair's distance is within
+    2 ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
+    ``since`` of their common value at the fix, could fall on either side, and the
+    pair's staying active must be decided on the exact one."""
+    for p in range(out.shape[0]):
+        d = _held_point(F, out, p, 0)[0]
+        if abs(d - threshold) <= 2.0 * since + HOLD_TOL:
+            return False
+    for p in range(out.shape[0]):
+        touches = gains[p, K_N] > 0.0
+        for s in range(POINTS):
+            if out[p, s, O_ON] == 0.0:
+                continue
+            d, a, b, n, ka, kb = _held_point(F, out, p, s)
+            if update:
+                if mu > 0.0 and touches and d < 0.0:
+                    _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
+                if not (d < 0.0 and touches):
+                    anchored[p, s] = False
+                _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p],
+                              anchors[p, s], anchored[p, s])
+    return True
+
+
+@njit(**INLINE)
+def _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+    """:func:`contact_begin`'s held case: True (and its work done, through
+    :func:`_held_begin`) when the contact tuple ``C``'s frames fixed last may be held at
+    (q, qd) (the frames F then at q; already when ``posed``), else False (the anchors and
+    the frames held untouched)."""
+    axis_frame, revolute, arms = C[9], C[10], C[12]
+    gains, mu, anchors, anchored, fixed, out = C[14:]
+    n = q.shape[0]
+    if fixed[n + 1] != 1.0 or fixed[n] == -math.inf:
+        return False
+    since = moved(arms, q, fixed[:n])
+    if since > HOLD or fixed[n] - since < threshold:
+        return False
+    if not posed:
+        frames(dh, modified, C[0], q, F)
+    return _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since)
 
 
 @njit(**JIT)
-def contact_torque(q, qd, dh, modified, C, update, posed, tau, work):
-    """The joint torque tau (n,) of the active pairs ``rows`` of the contact tuple ``C``
-    at (q, qd), and per pair and contact point into its ``out`` (A, POINTS, OUT) the
-    distance, witness point, normal, force and anchor offset (distance inf: no such
-    point).  ``dh``, ``modified``: the model table and its convention; ``work``:
-    :func:`contact_work`, already posed at q when ``posed`` (by :func:`near_slack`).
+def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
+    """Fix the contact frames of a step's start at (q, qd) for the active pairs ``rows`` of
+    the contact tuple ``C``: per pair and contact point, into its ``out`` (A, POINTS, OUT),
+    the exact signed distance, first witness point and normal (from the first shape to
+    the second), O_ON 1.0 for the points that take part in the step, and the contact
+    frame held over the step (O_FIXED, O_HELD_A, O_HELD_B: :func:`_fix`); distance inf
+    and O_ON 0.0 elsewhere.  ``dh``, ``modified``: the model table and its convention;
+    ``threshold`` [m]: the step's margin (:func:`margin`); ``work``: :func:`contact_work`,
+    already posed at q when ``posed`` (by :func:`near_slack`).  :func:`contact_stage` then
+    gives the force of every point at any state of the step.  True when the frames were
+    fixed anew (``out`` and ``fixed`` as they were before are then in ``work[4]``,
+    ``work[5]``).
 
-    Contact points of a pair (first shape a, second b): their closest points and, when a
-    is a capsule, the sphere of its shallower end (slot 1 or 2 for its end) if that
-    overlaps too: a capsule lying flat rests on both ends instead of rocking between them,
-    and the springs' energy ½ k (δ² + δ_end²) stays a smooth function of q (the two ends
-    trade places where their depths are equal).  A point of depth δ > 0 pushes the
-    shapes apart with f_n = max(0, k_n δ − c_n ḋ) along its normal (ḋ the separation
-    rate).  With friction (mu > 0) the tangential force is −k_T u − c_T v_t, capped at
-    mu · f_n, where u is the tangential offset between the point's two anchors
-    (``anchors`` (A, POINTS, 2, 3): a point on each shape, in its body's frame; zero
-    where not ``anchored`` (A, POINTS)) and v_t the slip velocity.  The force on b acts
-    at b's witness point, its opposite at a's.  ``update`` (at a step's start) first
-    moves the anchors (:func:`_contact_force`) and releases those of points that do not
-    touch: the torque is then the one at the moved anchors.
+    The frames fixed last are held instead (:func:`_held_begin`, no narrow phase) while
+    the arm has moved at most :data:`HOLD` since (``fixed`` (n + 2,): q then, the least
+    distance bound of the capsule ends left out then, and 1.0 where the lever arms
+    ``arms`` hold at every q; -inf: fix anew) and no end left out can come within
+    ``threshold``: an arm at rest takes the narrow phase once.
 
-    Only the shapes of the active pairs are posed.  An end sphere of a capsule against an
-    obstacle whose last computed distance (``out``'s O_GAP, the end's centre then at
-    O_CENTRE) less how far its centre has moved since is still >= :data:`BOUND_TOL` does
-    not touch: its distance is not computed (the result is the same)."""
-    world0, link, local, _, kinds, bc, _, verts, body, axis_frame, revolute = C[:11]
-    rows, gains, mu, anchors, anchored, out = C[13:]
-    F, recs, wc, end = work
-    if not posed:
-        frames(dh, modified, world0, q, F)
-        for p in range(rows.shape[0]):
-            for s in range(2):
-                if rows[p, s] < link.shape[0]:
-                    place_shape(F, link, local, recs, bc, wc, rows[p, s])
-    for j in range(tau.shape[0]):
-        tau[j] = 0.0
+    Contact points of a pair (first shape a, second b): their closest points (slot 0,
+    always) and, when a is a capsule, the sphere of one of its ends (slot 1 or 2 for its
+    end): the shallower end if both overlap (a capsule lying flat rests on both ends
+    instead of rocking between them, and the springs' energy ½ k (δ² + δ_end²) stays a
+    smooth function of q: the two ends trade places where their depths are equal), else
+    the end farther from the closest point if it is within ``threshold`` (it may come to
+    touch during the step).  The end farther from the closest point is computed first:
+    when it does not touch, the shallower end does not either, and the other need not be
+    computed.
+
+    ``update`` (at a step's start) also moves the friction anchors (``anchors`` (A,
+    POINTS, 2, 3), a point on each shape in its body's frame, and ``anchored`` (A,
+    POINTS); :func:`_move_anchors`) of the touching points and releases those of points
+    that do not touch.  An end sphere of a capsule against a shape fixed in the world
+    whose last computed distance (``out``'s O_GAP, the end's centre then at O_CENTRE) less
+    how far its centre has moved since is still >= ``threshold`` cannot touch during the
+    step: its distance is not computed (the result is the same)."""
+    link, local, kinds, verts, body, axis_frame, revolute = C[1], C[2], C[4], C[7], C[8], C[9], C[10]
+    rows, gains, mu, anchors, anchored, fixed, out = C[13:]
+    F, recs, end = work[0], work[1], work[3]
+    n = q.shape[0]
     moving = update and mu > 0.0
+    if _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+        return False
+    work[4][:] = out  # what a caller that takes the step back restores
+    work[5][:] = fixed
+    if not posed:
+        _pose_active(q, dh, modified, C, work)
+    reach = math.inf
     for p in range(rows.shape[0]):
         i, j = rows[p, 0], rows[p, 1]
         ka, kb = body[i], body[j]
+        ra, rb = local[i, L.RADIUS], local[j, L.RADIUS] if j < link.shape[0] else 0.0
         for e in range(POINTS):
             out[p, e, O_D] = math.inf
+            out[p, e, O_ON] = 0.0
         d, a, b, nrm = pair_distance(kinds[i], recs[i], kinds[j], recs[j], verts, math.inf)
-        _record(out[p, 0], d, a, nrm)
-        if gains[p, K_N] > 0.0 and d < 0.0:
-            if moving:
-                _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
-                               True, tau, out)
-            _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0,
-                           False, tau, out)
-            if kinds[i] == L.CAPSULE:
-                ends = core_ends(kinds[i], recs[i])
-                # the end farther from the closest point first: when it does not touch, the
-                # shallower end does not either, and the other need not be computed
-                far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
-                # against a shape fixed in the world, the end's own motion bounds its change of distance
-                apart = kb <= 0 and out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far]) >= BOUND_TOL
-                if not apart:
-                    end[:] = recs[i]
+        _fix(F, ka, kb, ra, rb, out[p, 0], d, a, b, nrm)
+        touches = gains[p, K_N] > 0.0
+        if moving and touches and d < 0.0:
+            _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, 0)
+        if kinds[i] == L.CAPSULE:
+            ends = core_ends(kinds[i], recs[i])
+            far = 0 if _distance2(ends[0], a) >= _distance2(ends[1], a) else 1
+            # against a shape fixed in the world, the end's own motion bounds its change of distance
+            bound = out[p, 1 + far, O_GAP] - _moved(out[p, 1 + far], ends[far])
+            apart = kb <= 0 and bound >= threshold
+            if apart:
+                reach = min(reach, bound)
+            else:
+                end[:] = recs[i]
+                for c in range(3):
+                    end[L.POS + c] = ends[far][c]
+                result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                _remember(out[p, 1 + far], result[0], ends[far])
+                de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
+                if de < 0.0:
                     for c in range(3):
-                        end[L.POS + c] = ends[far][c]
-                    result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                    _remember(out[p, 1 + far], result[0], ends[far])
-                    de, ae, be, ne, e = result[0], result[1], result[2], result[3], far
-                    if de < 0.0:
-                        for c in range(3):
-                            end[L.POS + c] = ends[1 - far][c]
-                        other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
-                        _remember(out[p, 2 - far], other[0], ends[1 - far])
-                        first, second = (result, other) if far == 0 else (other, result)
-                        e = 0 if first[0] >= second[0] else 1  # the shallower end
-                        de, ae, be, ne = first if e == 0 else second
-                    if de < 0.0:
-                        _record(out[p, 1 + e], de, ae, ne)
-                        if moving:
-                            _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
-                                           anchored, p, 1 + e, True, tau, out)
-                        _contact_force(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors, anchored,
-                                       p, 1 + e, False, tau, out)
-        if update:
-            for e in range(POINTS):
-                if not out[p, e, O_D] < 0.0 or gains[p, K_N] <= 0.0:
-                    anchored[p, e] = False
+                        end[L.POS + c] = ends[1 - far][c]
+                    other = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
+                    _remember(out[p, 2 - far], other[0], ends[1 - far])
+                    first, second = (result, other) if far == 0 else (other, result)
+                    e = 0 if first[0] >= second[0] else 1  # the shallower end
+                    de, ae, be, ne = first if e == 0 else second
+                if de >= threshold:
+                    reach = min(reach, de)
+                else:
+                    _fix(F, ka, kb, ra, rb, out[p, 1 + e], de, ae, be, ne)
+                    if moving and touches and de < 0.0:
+                        _move_anchors(F, ka, kb, de, ae, be, ne, qd, axis_frame, revolute, gains, mu, anchors,
+                                      anchored, p, 1 + e)
+        for e in range(POINTS):
+            if update and (not out[p, e, O_D] < 0.0 or not touches):
+                anchored[p, e] = False
+            if out[p, e, O_ON] == 1.0:
+                _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
+    fixed[:n] = q
+    fixed[n] = reach
+    return True
+
+
+@njit(**INLINE)
+def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F, posed, tau):
+    """The joint torque tau (n,) at (q, qd) of the contact points that take part in the
+    step (O_ON, fixed by :func:`contact_begin` at its start, which also wrote what is
+    read here into ``out``), and per point into ``out`` its distance, first witness
+    point, force and anchor offset.  ``dh``, ``modified``, ``world0``: the model table,
+    its convention and frame 0 in the world; ``axis_frame``, ``revolute``, ``mu`` as in
+    the contact tuple; ``F`` (n + 1, 3, 4): the link frames, already at q when
+    ``posed``.
+
+    The contact frame is held over the step: each point keeps the normal n of the step's
+    start, and the core points under its witness points move with their bodies (a
+    shape's core: a sphere's centre, a point of a capsule's segment, a box's surface
+    point).  Its distance is d = n·(b − a), with a = x_a + r_a n and b = x_b − r_b n
+    (x the held core points, r the radii; for a second shape fixed in the world, n·b
+    as at the start: its tangent plane).  At the start d is the exact signed distance
+    and its gradient the exact one; over the step it differs from the exact distance by
+    the second-order terms of that tangent-plane picture (the curvature of the shapes
+    times the square of the witness points' slide, and the turn of the exact normal times
+    the lever of the point): none for a sphere, or a capsule's end or side, on a face of
+    a fixed shape.
+
+    A point of depth δ = −d > 0 pushes the shapes apart with f_n = max(0, k_n δ − c_n ḋ)
+    along n (ḋ the separation rate).  With friction (mu > 0) the tangential force is
+    −k_T u − c_T v_t, capped at mu · f_n, where u is the part across n of the offset
+    between the point's two anchors (zero where not set) and v_t the slip velocity.  The
+    force on b acts at b, its opposite at a.  Inlined where it is called: it reads no
+    array but these (a compiled call's array arguments cost time)."""
+    if not posed:
+        frames(dh, modified, world0, q, F)
+    for j in range(tau.shape[0]):
+        tau[j] = 0.0
+    for p in range(out.shape[0]):
+        for s in range(POINTS):
+            if out[p, s, O_ON] == 0.0:
+                continue
+            d, a, b, n, ka, kb = _held_point(F, out, p, s)
+            for c in range(3):
+                out[p, s, O_FORCE + c] = 0.0
+                out[p, s, O_SLIP + c] = 0.0
+            if out[p, s, O_GAINS + K_N] > 0.0 and d < 0.0:
+                _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, mu, out, p, s, tau)
+
+
+@njit(**JIT)
+def contact_torque(q, qd, dh, modified, C, tau, work):
+    """:func:`contact_stage` at (q, qd) for the contact tuple ``C`` and its
+    :func:`contact_work`: the joint torque of the step's contact points into tau."""
+    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[19], work[0], False, tau)
 
 
 @njit(**INLINE)
@@ -362,10 +591,28 @@ def _remember(out, d, centre):
 
 
 @njit(**INLINE)
-def _record(out, d, a, nrm):
+def _stage_record(out, ka, kb, ra, rb, gains, anchor, anchored):
+    """What :func:`contact_stage` reads of a contact point besides its frame, into ``out``:
+    its bodies and radii, the pair's gains (4,), its anchors (2, 3) and whether they are set."""
+    out[O_BODY_A], out[O_BODY_B], out[O_RADIUS_A], out[O_RADIUS_B] = ka, kb, ra, rb
+    for c in range(4):
+        out[O_GAINS + c] = gains[c]
+    for c in range(3):
+        out[O_ANCHOR_A + c] = anchor[0, c]
+        out[O_ANCHOR_B + c] = anchor[1, c]
+    out[O_ANCHORED] = 1.0 if anchored else 0.0
+
+
+@njit(**INLINE)
+def _fix(F, ka, kb, ra, rb, out, d, a, b, nrm):
+    """A contact point of the step into ``out``: its exact distance d [m], witness points
+    a, b and normal nrm (3-tuples) at the step's start, O_ON set, O_FIXED = n·b and the
+    core points under a and b (radii ra, rb) in the frames of their bodies ka, kb."""
     out[O_D] = d
+    out[O_ON] = 1.0
+    out[O_FIXED] = dot(nrm, a) + d
     for c in range(3):
         out[O_POINT + c] = a[c]
         out[O_NORMAL + c] = nrm[c]
-        out[O_FORCE + c] = 0.0
-        out[O_SLIP + c] = 0.0
+    to_body(F, ka, (a[0] - ra * nrm[0], a[1] - ra * nrm[1], a[2] - ra * nrm[2]), out[O_HELD_A:O_HELD_A + 3])
+    to_body(F, kb, (b[0] + rb * nrm[0], b[1] + rb * nrm[1], b[2] + rb * nrm[2]), out[O_HELD_B:O_HELD_B + 3])

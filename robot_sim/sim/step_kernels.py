@@ -22,7 +22,7 @@ from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
 from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
-from robot_sim.sim.contact_kernels import O_D, contact_torque, contact_work, margin, moved, near_slack
+from robot_sim.sim.contact_kernels import O_D, contact_begin, contact_stage, contact_work, margin, moved, near_slack
 
 
 @njit(**INLINE)
@@ -58,16 +58,16 @@ def step_work(n):
 
 @njit(**JIT)
 def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM, zero, bias, M, fext, total, extra,
-           contact, cwork, update, posed):
-    """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque of the active
-    pairs of the contact tuple at (q, v) (with the step's gains and anchors; ``update``,
-    ``posed`` as ``contact_torque`` takes them); the ``held`` joints locked when
-    ``any_held`` (their reaction into ``react``); the rest: :func:`step_work`'s arrays.
-    Compiled on its own, not inlined into the step: the step's machine code stays as
-    small and as fast as without contact.  Only the work arrays used are passed: a
-    call's arguments cost time.  (Inlining ``contact_torque`` here would save about
-    0.1 µs per stage more, but compiles its body a second time, about 20 s of CPU.)"""
-    contact_torque(q, v, P, modified, contact, update, posed, extra, cwork)
+           world0, axis_frame, revolute, mu, out, Fc, posed):
+    """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque at (q, v) of
+    the contact points of the step (``contact_stage``, inlined here: the step's contact
+    frames, gains and anchors in ``out``; ``world0``, ``axis_frame``, ``revolute``, ``mu``
+    of the contact tuple; the link frames Fc, already at q when ``posed``); the ``held``
+    joints locked when ``any_held`` (their reaction into ``react``); the rest:
+    :func:`step_work`'s arrays.  Compiled on its own, not inlined into the step: the
+    step's machine code stays as small and as fast as without contact.  Only the arrays
+    used are passed: a call's arguments cost time."""
+    contact_stage(q, v, P, modified, world0, axis_frame, revolute, mu, out, Fc, posed, extra)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
     fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
@@ -114,7 +114,8 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
                        NM)
             else:
                 _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
-                       work[15], work[16], contact, cwork, False, False)
+                       work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[19], cwork[0],
+                       False)
             if not all_finite(out):
                 return BAD_ACCEL
         if stage == 0:
@@ -240,6 +241,18 @@ def _command(P, modified, law, kp, kd, q_des, qd_des, qdd_des, g0, q, qd, c, a_r
                 c[j] += g[j]
 
 
+@njit(**INLINE)
+def _take_back(contact, cwork, kept, kept_anchored, refixed):
+    """The contact state before a step's ``contact_begin`` (which ``refixed`` the frames or
+    held them), for a caller that takes that step its own way."""
+    if contact[15] > 0.0:
+        contact[16][:] = kept
+        contact[17][:] = kept_anchored
+    if refixed:
+        contact[19][:] = cwork[4]
+        contact[18][:] = cwork[5]
+
+
 @njit(**JIT)
 def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vlim, g0, stops, q, qd, qdd, cmd, tau,
               sat, vsat, any_at, at_limit, limit_torque, recorded, contact):
@@ -261,15 +274,15 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
 
     ``contact``: None, or a contact tuple (:mod:`.contact_kernels`; its ``arms`` valid at
     every q) with the active pairs of the step before: at each step's start the pairs
-    within :func:`.contact_kernels.margin` must be those, the friction anchors of the
-    touching ones are moved (``contact_torque`` with ``update``), and the step takes their
-    contact torque at every stage; with no active pair it is the free step.  The pairs
-    near are found by :func:`.contact_kernels.near_slack` (the broad phase of bounding
+    within :func:`.contact_kernels.margin` must be those, their contact frames are fixed
+    and the friction anchors of the touching ones moved (``contact_begin``), and the step
+    takes their contact torque at every stage (``contact_stage``); with no active pair it
+    is the free step.  The pairs near are found by :func:`.contact_kernels.near_slack` (the broad phase of bounding
     spheres, then the narrow phase), which also bounds the distance of all others from
     below; until the arm has moved (:func:`.contact_kernels.moved`) so far from where that
     was checked that one of them may have come within the margin (less
     :data:`SLACK_TOL`), the check is not repeated: only the active pairs' own distances
-    (from the start's contact torque) are compared with the margin.  The same pairs
+    (from the start's ``contact_begin``) are compared with the margin.  The same pairs
     either way.
 
     Returns the number of steps taken: it stops before a step that the caller takes its
@@ -311,16 +324,16 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                 if mu > 0.0:
                     kept[:] = anchors
                     kept_anchored[:] = anchored
-                # the start's acceleration, the anchors moved first (near_slack's pose is at q)
-                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
-                       work[4], work[5], work[6], work[7], work[15], work[16], contact, cwork, True, posed)
+                # the contact frames of the step fixed and the anchors moved (near_slack's pose is at q)
+                refixed = contact_begin(q, qd, P, modified, contact, True, posed, threshold, cwork)
                 if not posed:  # the active pairs still within the margin (their distances at q just computed)
                     for p in range(rows.shape[0]):
-                        if not contact[18][p, 0, O_D] < threshold:
-                            if mu > 0.0:
-                                anchors[:] = kept
-                                anchored[:] = kept_anchored
+                        if not contact[19][p, 0, O_D] < threshold:
+                            _take_back(contact, cwork, kept, kept_anchored, refixed)
                             return k
+                _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
+                       work[4], work[5], work[6], work[7], work[15], work[16], contact[0], contact[9], contact[10], mu,
+                       contact[19], cwork[0], True)
                 status = step_one(P, modified, rk4, h, q, qd, t, a_start, True, g0, held, False, False, q1, qd1, qdd1,
                                   react, at, work, contact, cwork)
                 ok = status == OK
@@ -338,10 +351,8 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                 qd1[j] = min(max(v, -vlim[j]), vlim[j])
             ok = squares_finite(q1) and squares_finite(qd1)
         if not ok:
-            if contact is not None:
-                if in_contact and mu > 0.0:  # the caller takes this step from the anchors before it
-                    anchors[:] = kept
-                    anchored[:] = kept_anchored
+            if contact is not None and in_contact:  # the caller takes this step from the contact state before it
+                _take_back(contact, cwork, kept, kept_anchored, refixed)
             return k
         for j in range(n):
             q[j], qd[j], qdd[j], cmd[j], tau[j], sat[j] = q1[j], qd1[j], qdd1[j], c[j], t[j], abs(c[j]) > elim[j]

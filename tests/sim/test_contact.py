@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from contact_helpers import MASS, RADIUS, planar_carriage, ur5_over_box, vertical_slider
+from contact_helpers import MASS, RADIUS, panda_in_self_contact, planar_carriage, ur5_over_box, vertical_slider
 from kin_helpers import ROBOT_NAMES, robot, sweep
 from robot_sim import dynamics
 from robot_sim.collision import Box, CollisionChecker, Sphere, World
@@ -91,12 +91,7 @@ def test_contact_torque_is_minus_the_gradient_of_the_spring_energy(name, convent
 def test_self_contact_torque_is_minus_the_gradient_of_the_spring_energy():
     """Links pushed into each other (the torque of equal and opposite forces at both
     witness points, a capsule end included): −∂U/∂q."""
-    rob = robot("panda")
-    checker = CollisionChecker(rob, World(floor=False))
-    rng = np.random.default_rng(0)
-    Q = rob.q_home + rng.uniform(-2.5, 2.5, (4000, rob.n_dofs))
-    d = checker.distance(Q)
-    q = Q[np.flatnonzero((d < -0.002) & (d > -0.01))[0]]
+    rob, checker, q = panda_in_self_contact()
     model = ContactModel(checker)
     assert model.begin_step(q, np.zeros(rob.n_dofs), 1e-3)
     tau = model.torque(q, np.zeros(rob.n_dofs))
