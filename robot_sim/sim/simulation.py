@@ -43,9 +43,10 @@ One step of length h, in this order:
 Contact (``checker=``, a :class:`~robot_sim.collision.CollisionChecker` of the robot):
 links that meet an obstacle, the floor or each other get penalty contact forces
 (:mod:`robot_sim.sim.contact`, Coulomb friction ``friction``).  At the start of a
-step the pairs near contact are chosen and their gains and friction anchors fixed; the
-contact torque then enters the dynamics at every stage of the integrator, as a
-function of that stage's (q, qd): one compiled call (``ContactModel.step``) unless a
+step the pairs near contact are chosen and their gains, friction anchors and contact
+frames (normal, and witness points held in their bodies) fixed; the contact torque then
+enters the dynamics at every stage of the integrator, from that stage's (q, qd) in the
+held frames (docs/contact.md): one compiled call (``ContactModel.step``) unless a
 pull, a tool wrench or a continuous-time controller acts too.  Steps with no pair near
 contact are computed exactly as without contact.
 
