@@ -2,10 +2,11 @@
 (:mod:`robot_sim.ik.geometry`): ``E_0(q_0) ⋯ E_{m-1}(q_{m-1}) M = T``.
 
 Each solver writes every branch of one pose into ``out`` (K, m) and its posture bits into
-``code`` (K,), and returns how many it wrote.  The pose solvers also write the cosine
-and sine of each angle they turn by into ``cs`` (K, 2m: cos q_j at 2j, sin q_j at
-2j + 1), for the check by forward kinematics to take instead of computing them again.  ``A`` holds the constant points and
-directions the classification prepared (rows listed per solver).  Angles that a singular
+``code`` (K,), and returns how many it wrote.  All but :func:`parallel_axes` also write
+the cosine and sine of each angle they turn by into ``cs`` (K, 2m: cos q_j at 2j,
+sin q_j at 2j + 1), as the subproblems give them, for the arm's wrist and the check by
+forward kinematics to take instead of computing them again.  ``A`` holds the constant
+points and directions the classification prepared (rows listed per solver).  Angles that a singular
 pose leaves free take their value in ``q0``.
 
 * :func:`spherical_wrist` (Pieper): axes 3, 4, 5 meet at the wrist centre w, so
@@ -113,16 +114,15 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
     r6, rx = rmul(T, row(A, 2)), rmul(T, row(A, 4))
     f0, x6 = row(A, 6), row(A, 3)
     h0, h1, h2 = row(H, 0), row(H, 1), row(H, 2)
-    arm = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
+    arm = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out, cs)
     for j in range(arm - 1, -1, -1):  # from the last: arm solution j becomes rows 2j, 2j + 1
         q = (out[j, 0], out[j, 1], out[j, 2])
-        c0, s0 = cos_sin(q[0])
-        c1, s1 = cos_sin(q[1])
+        c0, s0, c1, s1, c2, s2 = cs[j, 0], cs[j, 1], cs[j, 2], cs[j, 3], cs[j, 4], cs[j, 5]
         bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
-        if rev[0] == 0 or rev[1] == 0:  # (R_0 R_1 R_2)ᵀ: the arm's turn undone (a slide does not turn)
-            c0, s0 = cos_sin(q[0], rev[0] != 0)
-            c1, s1 = cos_sin(q[1], rev[1] != 0)
-        c2, s2 = cos_sin(q[2], rev[2] != 0)
+        if rev[0] == 0 or rev[1] == 0 or rev[2] == 0:  # (R_0 R_1 R_2)ᵀ: the arm's turn undone (a slide does not turn)
+            c0, s0 = (c0, s0) if rev[0] != 0 else (1.0, 0.0)
+            c1, s1 = (c1, s1) if rev[1] != 0 else (1.0, 0.0)
+            c2, s2 = (c2, s2) if rev[2] != 0 else (1.0, 0.0)
         w6 = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, r6)))
         wx = rot_cs(h2, c2, -s2, rot_cs(h1, c1, -s1, rot_cs(h0, c0, -s0, rx)))
         wrist(H, q, (c0, s0, c1, s1, c2, s2), bits, w6, wx, x6, q0, out, code, cs, 2 * j)
@@ -213,13 +213,11 @@ def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, 
 
 @numba.njit(**JIT)
 def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.ndarray, q0: np.ndarray,
-                  out: np.ndarray, code: np.ndarray) -> int:
+                  out: np.ndarray, code: np.ndarray, cs: np.ndarray) -> int:
     """A: 0 the tool point at q = 0, 5 meeting point o, 6 f0 (the rows of spherical_wrist)."""
     pw = (T[0, 3], T[1, 3], T[2, 3])
-    n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out)
+    n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out, cs)
     for k in range(n):
-        c0, s0 = cos_sin(out[k, 0])
-        c1, s1 = cos_sin(out[k, 1])
-        code[k] = posture_bits(H, P, row(A, 6), c0, s0, c1, s1, pw)
+        code[k] = posture_bits(H, P, row(A, 6), cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3], pw)
     return n
 

@@ -123,7 +123,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
-    sub_cs = np.full((K, 2 * m), np.nan)  # the pose solvers write every row they return, the others none
+    sub_cs = np.full((K, 2 * m), np.nan)  # every solver but parallel_axes writes the rows it returns
     sub_code = np.zeros(K, dtype=np.int64)
     lq, lcs = np.zeros((n, G * L)), np.zeros((2 * n, G * L))  # lanes never written stay finite
     pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
@@ -153,7 +153,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                 elif kind == PARALLEL_AXES:
                     got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
                 else:
-                    got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
+                    got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code, sub_cs)
                 for k in range(got):
                     at = got_all + k
                     lane = (i - i0) * L + at
