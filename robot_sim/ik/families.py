@@ -29,7 +29,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn, turn_cs
+from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn_cs
 from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
 from robot_sim.kernels.jit import JIT
 
@@ -59,13 +59,6 @@ def apply(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
 
 #: Axes closer than this (sine of their angle, or cosine for ⟂) count as aligned (or ⟂).
 ALIGNED = 1e-12
-
-
-@numba.njit(inline="always", **JIT)
-def cos_sin(q: float, revolute: bool = True) -> tuple[float, float]:
-    """(cos q, sin q) of a revolute joint's angle; (1, 0) for a prismatic joint (it does
-    not turn)."""
-    return (math.cos(q), math.sin(q)) if revolute else (1.0, 0.0)
 
 
 @numba.njit(**JIT)
@@ -142,13 +135,11 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
     a3, b3 = perp(h1, sub(p3, p2)), perp(h1, sub(p2, p1))
     n = 0
     t1a, t1b, _, _ = sp4(h1, h0, sub(po, p0), dot(h1, sub(row(A, 0), p0)))
-    for t1 in (t1a, t1b):
-        q1 = -t1
-        c1, s1 = cos_sin(q1)
+    for t1, ct1, st1 in (t1a, t1b):
+        q1, c1, s1 = -t1, ct1, -st1
         t5a, t5b, _, _ = sp4(h1, h4, h5, dot(h1, rot_cs(h0, c1, -s1, r6)))
         back = rmul(M, rtmul(T, rot_cs(h0, c1, s1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
-        for q5 in (t5a, t5b):
-            c5, s5 = cos_sin(q5)
+        for q5, c5, s5 in (t5a, t5b):
             m6, c6, s6 = sp1_cs(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
             q6, s6 = -m6, -s6
             v = rot_cs(h0, c1, -s1, rmul(T, rtmul(M, rot_cs(h5, c6, -s6, rot_cs(h4, c5, -s5, x1)))))
@@ -159,8 +150,7 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
             y = turn_cs(h0, p0, c1, -s1, apply(T, z))
             pw = turn_cs(h0, p0, c1, s1, y)
             t3a, t3b, _, _ = sp3(h2, a3, b3, norm(perp(h1, sub(y, p1))))
-            for q3 in (t3a, t3b):
-                c3, s3 = cos_sin(q3)
+            for q3, c3, s3 in (t3a, t3b):
                 q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
                 q4 = g3 * (total - q2 - g2 * q3)
                 out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
@@ -196,8 +186,8 @@ def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, 
     dist = norm(perp(h, sub(target, pa)))
     tba, tbb, _, _ = sp3(hb, perp(h, sub(point, pb)), perp(h, sub(pb, pa)), dist)
     n = 0
-    for qb in (tba, tbb):
-        elbow = sub(turn(hb, pb, qb, point), pa)
+    for qb, cb, sb_ in (tba, tbb):
+        elbow = sub(turn_cs(hb, pb, cb, sb_, point), pa)
         qa = sp1(ha, elbow, sub(target, pa), q0[a])
         out[n, :] = 0.0
         out[n, a], out[n, b] = qa, qb

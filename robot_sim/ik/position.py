@@ -47,12 +47,6 @@ def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, fl
     return add(rot_cs(h, c, s, sub(x, p)), p)
 
 
-@numba.njit(inline="always", **JIT)
-def turn(h: tuple, p: tuple, q: float, x: tuple) -> tuple[float, float, float]:
-    """E(q) x for a revolute joint about the line (p, h)."""
-    return turn_cs(h, p, math.cos(q), math.sin(q), x)
-
-
 @numba.njit(**JIT)
 def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
                  pw: tuple) -> int:
@@ -87,14 +81,12 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
             b = dot(h2, sub(w, o))
             disc = b * b - dot(sub(w, o), sub(w, o)) + dist * dist
             root = math.sqrt(disc) if disc > 0.0 else 0.0
-            t3a, t3b = -b + root, -b - root
+            t3a, t3b = (-b + root, 1.0, 0.0), (-b - root, 1.0, 0.0)  # a slide: (1, 0) as it does not turn
         y = sub(pw, o)
-        for t3 in (t3a, t3b):
+        for t3, c3, s3 in (t3a, t3b):
             if case == ONE_TWO_MEET_SLIDE:
-                c3, s3 = 1.0, 0.0
                 x = sub(add(w, scale(t3, h2)), o)
             else:
-                c3, s3 = math.cos(t3), math.sin(t3)
                 x = sub(turn_cs(h2, p2, c3, s3, w), o)
             q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0])
             for m1, q2 in ((m1a, q2a), (m1b, q2b)):
@@ -103,13 +95,11 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
                 n += 1
     elif case == TWO_THREE_PARALLEL:
         t1a, t1b, _, _ = sp4(h1, h0, sub(pw, p0), dot(h1, sub(w, p0)))
-        for t1 in (t1a, t1b):
-            c1, s1 = math.cos(t1), math.sin(t1)
+        for t1, c1, s1 in (t1a, t1b):
             y = turn_cs(h0, p0, c1, s1, pw)
             dist = norm(perp(h1, sub(y, p1)))
             t3a, t3b, _, _ = sp3(h2, perp(h1, sub(w, p2)), perp(h1, sub(p2, p1)), dist)
-            for t3 in (t3a, t3b):
-                c3, s3 = math.cos(t3), math.sin(t3)
+            for t3, c3, s3 in (t3a, t3b):
                 q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, w), p1), sub(y, p1), q0[1])
                 out[n, 0], out[n, 1], out[n, 2] = -t1, q2, t3
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, c2, s2, c3, s3
@@ -117,12 +107,10 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
     elif case == ONE_TWO_PARALLEL:
         t3a, t3b, _, _ = sp4(h0, h2, sub(w, p2), dot(h0, sub(pw, p2)))
         dist = norm(perp(h0, sub(pw, p0)))
-        for t3 in (t3a, t3b):
-            c3, s3 = math.cos(t3), math.sin(t3)
+        for t3, c3, s3 in (t3a, t3b):
             x = turn_cs(h2, p2, c3, s3, w)
             t2a, t2b, _, _ = sp3(h1, perp(h0, sub(x, p1)), perp(h0, sub(p1, p0)), dist)
-            for t2 in (t2a, t2b):
-                c2, s2 = math.cos(t2), math.sin(t2)
+            for t2, c2, s2 in (t2a, t2b):
                 q1, c1, s1 = sp1_cs(h0, sub(turn_cs(h1, p1, c2, s2, x), p0), sub(pw, p0), q0[0])
                 out[n, 0], out[n, 1], out[n, 2] = q1, t2, t3
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
@@ -130,8 +118,7 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
     else:  # TWO_THREE_MEET
         t1a, t1b, _, _ = sp3(h0, sub(pw, p0), sub(p0, o), norm(sub(w, o)))
         x = sub(w, o)
-        for t1 in (t1a, t1b):
-            c1, s1 = math.cos(t1), math.sin(t1)
+        for t1, c1, s1 in (t1a, t1b):
             y = sub(turn_cs(h0, p0, c1, s1, pw), o)
             q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1])
             for m2, q3 in ((m2a, q3a), (m2b, q3b)):
