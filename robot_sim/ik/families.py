@@ -61,7 +61,7 @@ def apply(T: np.ndarray, x: tuple) -> tuple[float, float, float]:
 ALIGNED = 1e-12
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def wrist_bit(H: np.ndarray, c4: float, s4: float, c5: float, s5: float) -> int:
     """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0 (R_3, R_4 given by the cosines and
     sines of q_3, q_4): the wrist's two postures differ in that sign, and Siciliano's
@@ -72,7 +72,7 @@ def wrist_bit(H: np.ndarray, c4: float, s4: float, c5: float, s5: float) -> int:
         else 0
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tuple,
           q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray, n: int) -> None:
     """The two wrists (q_3, q_4, q_5) with R_3 R_4 R_5 = R_w, given R_w h_5 and R_w x6

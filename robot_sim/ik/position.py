@@ -47,7 +47,7 @@ def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, fl
     return add(rot_cs(h, c, s, sub(x, p)), p)
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
                  pw: tuple) -> int:
     """Shoulder and elbow bits of arm joints q_0, q_1 (given by their cosines and sines)
