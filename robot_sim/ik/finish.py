@@ -260,6 +260,38 @@ def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) 
 
 
 @numba.njit(**JIT)
+def sort_raw(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
+             key: np.ndarray, order: np.ndarray, spare: np.ndarray, rows: np.ndarray) -> None:
+    """Pose i's ``kept`` branches in place nearest q0 first (Euclidean, rad and m; equal
+    distances in branch order), the rows after them padded (NaN, code -1, not exact): what
+    :func:`expand` would write for :data:`RAW`.  key, order, spare (K,) and rows (K, n)
+    are scratch."""
+    K, n = raw.shape[1], raw.shape[2]
+    for k in range(kept):
+        d2 = 0.0
+        for j in range(n):
+            d2 += (raw[i, k, j] - q0[j]) ** 2
+        key[k] = d2
+    stable_order(key, kept, order, spare)
+    for k in range(kept):  # the rows, codes and exactness as they were (key and spare are free now)
+        for j in range(n):
+            rows[k, j] = raw[i, k, j]
+        spare[k] = code[i, k]
+        key[k] = 1.0 if exact[i, k] else 0.0
+    for k in range(kept):
+        b = order[k]
+        for j in range(n):
+            raw[i, k, j] = rows[b, j]
+        code[i, k] = spare[b]
+        exact[i, k] = key[b] != 0.0
+    for k in range(kept, K):
+        for j in range(n):
+            raw[i, k, j] = np.nan
+        code[i, k] = -1
+        exact[i, k] = False
+
+
+@numba.njit(**JIT)
 def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
            lo: np.ndarray, hi: np.ndarray, rev: np.ndarray, mode: int, out: np.ndarray, out_code: np.ndarray,
            out_exact: np.ndarray, work: np.ndarray, dist: np.ndarray, source: np.ndarray, order: np.ndarray,

@@ -15,7 +15,7 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
-from robot_sim.ik.finish import LANES, chord_angle, expand, fk_lanes, screen, to_lane
+from robot_sim.ik.finish import LANES, RAW, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.jit import JIT
 
@@ -111,7 +111,10 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
     checked by :func:`robot_sim.ik.finish.fk_lanes` a block of poses at a time (at least
     :data:`~robot_sim.ik.finish.LANES` branches together), then
-    :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions."""
+    :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions.  For
+    :data:`~robot_sim.ik.finish.RAW` the kept branches are sorted and padded as pass 2
+    would write them (:func:`robot_sim.ik.finish.sort_raw`), so that a batch as wide as
+    K·V needs no pass 2 (:func:`raw_is_answer`)."""
     kind, case, free, rev_chain, m, n = gi[0], gi[1], gi[6], gi[7] != 0, gi[8], gi[9]
     check_rot = gi[10] != 0
     idx = gi[2:6]
@@ -129,6 +132,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
     S = np.empty(12 * LANES)
     branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
+    key, order, spare, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty(L, dtype=np.int64), np.empty((L, n))
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
@@ -173,6 +177,8 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
         for i in range(i0, i1):
             count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,
                                         mode, tol)
+            if mode == RAW:
+                sort_raw(raw, code, exact, i, count[i], q0, key, order, spare, rows)
 
 
 @numba.njit(**JIT)
@@ -246,6 +252,15 @@ def width(total: np.ndarray, n: int) -> tuple[int, int]:
     return (0 if needed > MAX_VALUES else W), needed
 
 
+def raw_is_answer(mode: int, W: int, raw: np.ndarray) -> bool:
+    """Whether pass 1's arrays are already the answer: :data:`~robot_sim.ik.finish.RAW`
+    branches (sorted and padded by pass 1) as wide as the answer."""
+    return mode == RAW and W == raw.shape[1]
+
+
+_raw_is_answer = numba.njit(**JIT)(raw_is_answer)
+
+
 @numba.njit(**JIT)
 def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
     """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
@@ -263,6 +278,8 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
         return raw, code, exact, count, 0, bad
     pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
     W, needed = width(total, n)
+    if _raw_is_answer(mode, W, raw):
+        return raw, code, exact, count, needed, -1
     out, out_code, out_exact, out_count = _pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1
