@@ -80,10 +80,10 @@ def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: 
     code the arm's posture ``bits`` with the wrist's, and of cs the arm's ``arm_cs``
     (6 numbers) with the wrist's."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
-    q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3])
     # h_5 = ±h_3 and h_4 ⟂ h_3 (a ZYZ wrist): R_3(q4 + π) R_4(−q5) R_5(q6 + π) = R_3(q4) R_4(q5) R_5(q6),
     # since R_3(π) turns h_4 into −h_4 and R_3(π) R_5(π) = I; the second wrist follows from the first
     zyz = norm(cross(h3, h5)) < ALIGNED and abs(dot(h3, h4)) < ALIGNED
+    q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3], not zyz)
     for k, (m4, (q5, c5, s5)) in enumerate(((m4a, q5a), (m4b, q5b))):
         q4, c4, s4 = -m4[0], m4[1], -m4[2]
         if k == 1 and zyz:

@@ -186,10 +186,10 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
         for k2 in range(kept):
             same = True
             for j in range(n):
-                d = raw[i, k, j] - raw[i, k2, j]
-                if rev[j]:
-                    d = nearest_turn(d, 0.0)
-                if abs(d) > SAME:
+                d = abs(raw[i, k, j] - raw[i, k2, j])
+                if rev[j] and d > math.pi:  # (a whole turn apart is the same angle)
+                    d = abs(nearest_turn(d, 0.0))
+                if d > SAME:
                     same = False
                     break
             if same:
@@ -214,6 +214,8 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
                 if not (lo[j] - EDGE <= x <= hi[j] + EDGE):
                     ways = 0
+            if ways == 0:
+                break
         total += ways if mode == EVERY_TURN else min(ways, 1)
     return kept, total
 

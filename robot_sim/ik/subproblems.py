@@ -131,9 +131,10 @@ def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple:
 
 
 @numba.njit(**JIT)
-def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple:
+def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float, both: bool = True) -> tuple:
     """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
-    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ).
+    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ); without ``both`` only
+    the first pair is solved (the second repeats it).
 
     The common image v = α k1 + β k2 ± γ k1×k2 satisfies k1ᵀv = k1ᵀp1, k2ᵀv = k2ᵀp2 and
     ‖v‖ = ‖p1‖ (directions only: p1 and p2 are normalised).  Out of reach γ = 0 (the
@@ -155,8 +156,10 @@ def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple:
     g = math.sqrt(g2) if g2 > 0.0 else 0.0
     va, vb = add(v0, scale(g, n)), sub(v0, scale(g, n))
     a1, a2 = perp(k1, u1), perp(k2, u2)  # SP1 four times, sharing what it can
-    return (_angle(k1, a1, perp(k1, va), d1), _angle(k2, a2, perp(k2, va), d2), _angle(k1, a1, perp(k1, vb), d1),
-            _angle(k2, a2, perp(k2, vb), d2), exact)
+    first, second = _angle(k1, a1, perp(k1, va), d1), _angle(k2, a2, perp(k2, va), d2)
+    if not both:
+        return first, second, first, second, exact
+    return first, second, _angle(k1, a1, perp(k1, vb), d1), _angle(k2, a2, perp(k2, vb), d2), exact
 
 
 @numba.njit(**JIT)
