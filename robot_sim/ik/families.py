@@ -62,14 +62,15 @@ ALIGNED = 1e-12
 
 
 @numba.njit(inline="always", **JIT)
-def wrist_bit(H: np.ndarray, c4: float, s4: float, c5: float, s5: float) -> int:
-    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0 (R_3, R_4 given by the cosines and
-    sines of q_3, q_4): the wrist's two postures differ in that sign, and Siciliano's
-    first wrist solution (sin θ5 > 0 on his anthropomorphic arm with spherical wrist) is
-    the one not flipped."""
+def wrist_bit(H: np.ndarray, c5: float, s5: float) -> int:
+    """Flipped when (h_3 × R_3 h_4)ᵀ R_3 R_4 h_5 > 0: the wrist's two postures differ in
+    that sign, and Siciliano's first wrist solution (sin θ5 > 0 on his anthropomorphic arm
+    with spherical wrist) is the one not flipped.  R_3 drops out (R_3ᵀ(h_3 × R_3 h_4) =
+    h_3 × h_4), and with n = h_3 × h_4 ⟂ h_4 Rodrigues' formula leaves
+    nᵀR_4 h_5 = c5 nᵀh_5 + s5 nᵀ(h_4 × h_5), c5 and s5 the cosine and sine of joint 4."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
-    return WRIST_FLIPPED if dot(cross(h3, rot_cs(h3, c4, s4, h4)), rot_cs(h3, c4, s4, rot_cs(h4, c5, s5, h5))) > 0.0 \
-        else 0
+    n = cross(h3, h4)
+    return WRIST_FLIPPED if c5 * dot(n, h5) + s5 * dot(n, cross(h4, h5)) > 0.0 else 0
 
 
 @numba.njit(inline="always", **JIT)
@@ -93,7 +94,7 @@ def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: 
             q6, c6, s6 = sp1_cs(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
         out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
         out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
-        code[n + k] = bits | wrist_bit(H, c4, s4, c5, s5)
+        code[n + k] = bits | wrist_bit(H, c5, s5)
         cs[n + k, 0], cs[n + k, 1], cs[n + k, 2], cs[n + k, 3], cs[n + k, 4], cs[n + k, 5] = arm_cs
         cs[n + k, 6], cs[n + k, 7], cs[n + k, 8], cs[n + k, 9], cs[n + k, 10], cs[n + k, 11] = c4, s4, c5, s5, c6, s6
 
@@ -156,7 +157,7 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
                 out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
                 c, s = ct * c2 + st * s2, st * c2 - ct * s2  # of total - q2, then less g2 q3
                 c4, s4 = c * c3 + g2 * s * s3, g3 * (s * c3 - g2 * c * s3)
-                code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c4, s4, c5, s5)
+                code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c5, s5)
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6
                 n += 1
