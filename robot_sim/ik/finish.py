@@ -160,7 +160,7 @@ def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q:
         q[j, lane] = x
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int, pos: np.ndarray, rot: np.ndarray,
            e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float) -> tuple[int, int]:
     """Pass 1 of pose i, in place: of its m raw branches raw[i, :m] (K, n) and
@@ -261,7 +261,7 @@ def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) 
             order[a] = src[a]
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def sort_raw(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
              key: np.ndarray, order: np.ndarray, spare: np.ndarray, rows: np.ndarray) -> None:
     """Pose i's ``kept`` branches in place nearest q0 first (Euclidean, rad and m; equal
@@ -293,7 +293,7 @@ def sort_raw(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept:
         exact[i, k] = False
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
            lo: np.ndarray, hi: np.ndarray, rev: np.ndarray, mode: int, out: np.ndarray, out_code: np.ndarray,
            out_exact: np.ndarray, work: np.ndarray, dist: np.ndarray, source: np.ndarray, order: np.ndarray,

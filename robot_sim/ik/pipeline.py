@@ -88,7 +88,7 @@ def _whole(gf: np.ndarray, gi: np.ndarray) -> tuple:
     return H, P, M, row[at:at + n], row[at + n:at + 2 * n], gi[_HEAD + 2 * m:_HEAD + 2 * m + n]
 
 
-@numba.njit(**JIT)
+@numba.njit(inline="always", **JIT)
 def _pose(Ts: np.ndarray, i: int, inverse: bool, out: np.ndarray) -> None:
     """Ts[i] (4, 4), or its inverse, into out (copied: a view of Ts would cost two atomic
     reference counts per pose)."""
