@@ -88,7 +88,7 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
                 x = sub(add(w, scale(t3, h2)), o)
             else:
                 x = sub(turn_cs(h2, p2, c3, s3, w), o)
-            q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0])
+            q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0], True)
             for m1, q2 in ((m1a, q2a), (m1b, q2b)):
                 out[n, 0], out[n, 1], out[n, 2] = -m1[0], q2[0], t3
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = m1[1], -m1[2], q2[1], q2[2], c3, s3
@@ -120,7 +120,7 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
         x = sub(w, o)
         for t1, c1, s1 in (t1a, t1b):
             y = sub(turn_cs(h0, p0, c1, s1, pw), o)
-            q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1])
+            q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1], True)
             for m2, q3 in ((m2a, q3a), (m2b, q3b)):
                 out[n, 0], out[n, 1], out[n, 2] = -t1, -m2[0], q3[0]
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, m2[1], -m2[2], q3[1], q3[2]

@@ -131,7 +131,7 @@ def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple:
 
 
 @numba.njit(**JIT)
-def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float, both: bool = True) -> tuple:
+def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float, both: bool) -> tuple:
     """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
     (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ); without ``both`` only
     the first pair is solved (the second repeats it).
