@@ -4,11 +4,12 @@ turns inside the joint limits, duplicates dropped, nearest to q0 first.
 Two passes so that the output is sized by the largest count of the batch, not by the
 worst case (a UR arm's ±2π joints give up to 2⁶ turns per branch):
 
-1. :func:`screen` checks each raw branch by forward kinematics on the whole chain: it is
-   exact when it puts the tool within ``tol`` of T (metres, and radians as the Frobenius
-   distance of the rotations over √2); if none is, every branch is kept as the
-   least-squares answer.  Duplicates (equal modulo 2π) go, and each branch counts its
-   turns inside the limits.
+1. :func:`fk_lanes` checks the raw branches by forward kinematics on the whole chain
+   (many at once: :func:`to_lane` puts each in a lane), and :func:`screen` keeps, per
+   pose, the exact ones: those putting the tool within ``tol`` of T (metres, and radians
+   as the Frobenius distance of the rotations over √2); if none is, every branch is kept
+   as the least-squares answer.  Duplicates (equal modulo 2π) go, and each branch counts
+   its turns inside the limits.
 2. :func:`expand` writes every turn of every kept branch and sorts them by the distance
    to q0 (Euclidean, rad and m).
 
@@ -38,57 +39,88 @@ EDGE = 1e-10
 RAW, EVERY_TURN, NEAREST_TURN = 0, 1, 2
 
 
+#: Branches checked at once by :func:`fk_lanes`: its loops over them run on the vector
+#: registers (AVX-512: 8 lanes, twice) when this many are checked together.
+LANES = 16
+
+
 @numba.njit(**JIT)
-def fk_error(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, q: np.ndarray, cs: np.ndarray,
-             T: np.ndarray, check_rot: bool) -> tuple[float, float]:
-    """Position error [m] and (with ``check_rot``, else 0) rotation chord of the tool at q
-    against T, by the product of exponentials.  The chord ‖R_q − R_T‖_F / √2 is
-    2 sin(θ/2) for the angle θ [rad] between the rotations (:func:`chord_angle`), θ to
-    within θ³/24.  cs (2n,) holds cos q_j, sin q_j at 2j, 2j + 1 where the caller has
-    them (NaN where not).  (Scalars only: the chain's rotation and offset stay in
-    registers.)"""
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
-    t0 = t1 = t2 = 0.0
-    for j in range(H.shape[0]):
-        h0, h1, h2 = H[j, 0], H[j, 1], H[j, 2]
-        if rev[j]:
-            c, s = cs[2 * j], cs[2 * j + 1]
-            if not c == c:
-                c, s = math.cos(q[j]), math.sin(q[j])
-            v = 1.0 - c
-            a00, a01, a02 = c + v * h0 * h0, v * h0 * h1 - s * h2, v * h0 * h2 + s * h1
-            a10, a11, a12 = v * h0 * h1 + s * h2, c + v * h1 * h1, v * h1 * h2 - s * h0
-            a20, a21, a22 = v * h0 * h2 - s * h1, v * h1 * h2 + s * h0, c + v * h2 * h2
-            x, y, z = P[j, 0], P[j, 1], P[j, 2]  # offset of the turn: p - Rj p
-            o0 = x - (a00 * x + a01 * y + a02 * z)
-            o1 = y - (a10 * x + a11 * y + a12 * z)
-            o2 = z - (a20 * x + a21 * y + a22 * z)
-        else:
-            a00, a01, a02, a10, a11, a12, a20, a21, a22 = 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0
-            o0, o1, o2 = q[j] * h0, q[j] * h1, q[j] * h2
-        t0 += r00 * o0 + r01 * o1 + r02 * o2  # moved by the chain so far
-        t1 += r10 * o0 + r11 * o1 + r12 * o2
-        t2 += r20 * o0 + r21 * o1 + r22 * o2
-        r00, r01, r02 = r00 * a00 + r01 * a10 + r02 * a20, r00 * a01 + r01 * a11 + r02 * a21, \
-            r00 * a02 + r01 * a12 + r02 * a22
-        r10, r11, r12 = r10 * a00 + r11 * a10 + r12 * a20, r10 * a01 + r11 * a11 + r12 * a21, \
-            r10 * a02 + r11 * a12 + r12 * a22
-        r20, r21, r22 = r20 * a00 + r21 * a10 + r22 * a20, r20 * a01 + r21 * a11 + r22 * a21, \
-            r20 * a02 + r21 * a12 + r22 * a22
-    e0 = t0 + r00 * M[0, 3] + r01 * M[1, 3] + r02 * M[2, 3] - T[0, 3]
-    e1 = t1 + r10 * M[0, 3] + r11 * M[1, 3] + r12 * M[2, 3] - T[1, 3]
-    e2 = t2 + r20 * M[0, 3] + r21 * M[1, 3] + r22 * M[2, 3] - T[2, 3]
-    pos = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-    if not check_rot:
-        return pos, 0.0
-    rot = 0.0
-    for b in range(3):
-        m0, m1, m2 = M[0, b], M[1, b], M[2, b]
-        e0 = r00 * m0 + r01 * m1 + r02 * m2 - T[0, b]
-        e1 = r10 * m0 + r11 * m1 + r12 * m2 - T[1, b]
-        e2 = r20 * m0 + r21 * m1 + r22 * m2 - T[2, b]
-        rot += e0 * e0 + e1 * e1 + e2 * e2
-    return pos, math.sqrt(0.5 * rot)
+def fk_lanes(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
+             q: np.ndarray, cs: np.ndarray, m: int, check_rot: bool, S: np.ndarray, pos: np.ndarray,
+             rot: np.ndarray) -> None:
+    """Position error pos[k] [m] and (with ``check_rot``, else 0) rotation chord rot[k] of
+    the tool at the joint values q[:, k] (n, L) against the pose Ts[pose[k]] (world), for
+    the lanes k < m, by the product of exponentials.  cs (2n, L) holds cos q_j, sin q_j at
+    rows 2j, 2j + 1 for every revolute joint.  The chord ‖R_q − R_T‖_F / √2 is 2 sin(θ/2)
+    for the angle θ [rad] between the rotations (:func:`chord_angle`), θ to within θ³/24.
+
+    The lanes go :data:`LANES` at a time, joint by joint, each loop over them one
+    compiled vector loop (the chain's rotation and offset of lane k live in
+    S[a·LANES + k], a = 0..11: rows of R, then t); every lane gets the same arithmetic,
+    so a lane's answer does not depend on its neighbours."""
+    n = H.shape[0]
+    for b in range(0, m, LANES):
+        w = min(LANES, m - b)
+        for k in range(w):
+            S[k], S[LANES + k], S[2 * LANES + k] = 1.0, 0.0, 0.0
+            S[3 * LANES + k], S[4 * LANES + k], S[5 * LANES + k] = 0.0, 1.0, 0.0
+            S[6 * LANES + k], S[7 * LANES + k], S[8 * LANES + k] = 0.0, 0.0, 1.0
+            S[9 * LANES + k], S[10 * LANES + k], S[11 * LANES + k] = 0.0, 0.0, 0.0
+        for j in range(n):
+            h0, h1, h2 = H[j, 0], H[j, 1], H[j, 2]
+            if not rev[j]:
+                for k in range(w):
+                    o0, o1, o2 = q[j, b + k] * h0, q[j, b + k] * h1, q[j, b + k] * h2
+                    S[9 * LANES + k] += S[k] * o0 + S[LANES + k] * o1 + S[2 * LANES + k] * o2
+                    S[10 * LANES + k] += S[3 * LANES + k] * o0 + S[4 * LANES + k] * o1 + S[5 * LANES + k] * o2
+                    S[11 * LANES + k] += S[6 * LANES + k] * o0 + S[7 * LANES + k] * o1 + S[8 * LANES + k] * o2
+                continue
+            # R_j = c I + s [h]× + (1 − c) h hᵀ; its offset p − R_j p = (1 − c) (p − h hᵀp) − s h × p
+            x, y, z = P[j, 0], P[j, 1], P[j, 2]
+            hp = h0 * x + h1 * y + h2 * z
+            u0, u1, u2 = x - hp * h0, y - hp * h1, z - hp * h2
+            w0, w1, w2 = h1 * z - h2 * y, h2 * x - h0 * z, h0 * y - h1 * x
+            g00, g01, g02, g11, g12, g22 = h0 * h0, h0 * h1, h0 * h2, h1 * h1, h1 * h2, h2 * h2
+            for k in range(w):
+                c, s = cs[2 * j, b + k], cs[2 * j + 1, b + k]
+                v = 1.0 - c
+                a00, a01, a02 = c + v * g00, v * g01 - s * h2, v * g02 + s * h1
+                a10, a11, a12 = v * g01 + s * h2, c + v * g11, v * g12 - s * h0
+                a20, a21, a22 = v * g02 - s * h1, v * g12 + s * h0, c + v * g22
+                o0, o1, o2 = v * u0 - s * w0, v * u1 - s * w1, v * u2 - s * w2
+                r00, r01, r02 = S[k], S[LANES + k], S[2 * LANES + k]
+                r10, r11, r12 = S[3 * LANES + k], S[4 * LANES + k], S[5 * LANES + k]
+                r20, r21, r22 = S[6 * LANES + k], S[7 * LANES + k], S[8 * LANES + k]
+                S[9 * LANES + k] += r00 * o0 + r01 * o1 + r02 * o2  # moved by the chain so far
+                S[10 * LANES + k] += r10 * o0 + r11 * o1 + r12 * o2
+                S[11 * LANES + k] += r20 * o0 + r21 * o1 + r22 * o2
+                S[k] = r00 * a00 + r01 * a10 + r02 * a20
+                S[LANES + k] = r00 * a01 + r01 * a11 + r02 * a21
+                S[2 * LANES + k] = r00 * a02 + r01 * a12 + r02 * a22
+                S[3 * LANES + k] = r10 * a00 + r11 * a10 + r12 * a20
+                S[4 * LANES + k] = r10 * a01 + r11 * a11 + r12 * a21
+                S[5 * LANES + k] = r10 * a02 + r11 * a12 + r12 * a22
+                S[6 * LANES + k] = r20 * a00 + r21 * a10 + r22 * a20
+                S[7 * LANES + k] = r20 * a01 + r21 * a11 + r22 * a21
+                S[8 * LANES + k] = r20 * a02 + r21 * a12 + r22 * a22
+        for k in range(w):
+            r00, r01, r02 = S[k], S[LANES + k], S[2 * LANES + k]
+            r10, r11, r12 = S[3 * LANES + k], S[4 * LANES + k], S[5 * LANES + k]
+            r20, r21, r22 = S[6 * LANES + k], S[7 * LANES + k], S[8 * LANES + k]
+            i = pose[b + k]
+            e0 = S[9 * LANES + k] + r00 * M[0, 3] + r01 * M[1, 3] + r02 * M[2, 3] - Ts[i, 0, 3]
+            e1 = S[10 * LANES + k] + r10 * M[0, 3] + r11 * M[1, 3] + r12 * M[2, 3] - Ts[i, 1, 3]
+            e2 = S[11 * LANES + k] + r20 * M[0, 3] + r21 * M[1, 3] + r22 * M[2, 3] - Ts[i, 2, 3]
+            pos[b + k] = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            chord = 0.0
+            if check_rot:
+                for a in range(3):
+                    m0, m1, m2 = M[0, a], M[1, a], M[2, a]
+                    e0 = r00 * m0 + r01 * m1 + r02 * m2 - Ts[i, 0, a]
+                    e1 = r10 * m0 + r11 * m1 + r12 * m2 - Ts[i, 1, a]
+                    e2 = r20 * m0 + r21 * m1 + r22 * m2 - Ts[i, 2, a]
+                    chord += e0 * e0 + e1 * e1 + e2 * e2
+            rot[b + k] = math.sqrt(0.5 * chord)
 
 
 @numba.njit(inline="always", **JIT)
@@ -111,43 +143,53 @@ def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     return first, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1
 
 
-@numba.njit(**JIT)
-def screen(raw: np.ndarray, code: np.ndarray, cs: np.ndarray, m: int, exact: np.ndarray, err: np.ndarray,
-           H: np.ndarray,
-           P: np.ndarray, rev: np.ndarray, M: np.ndarray, T: np.ndarray, q0: np.ndarray, lo: np.ndarray,
-           hi: np.ndarray, mode: int, check_rot: bool, tol: float) -> tuple[int, int]:
-    """Pass 1 of one pose, in place: of its m raw branches raw[:m] (K, n) and code[:m]
-    (with the cosines and sines of their angles cs[:m] (K, 2n), NaN where not known),
-    the distinct ones kept (exact ones if any) move to the front, with exact[k].
-    Returns (how many are kept, how many solutions they expand to).  ``err`` (K,) is
-    scratch."""
-    n = raw.shape[1]
+@numba.njit(inline="always", **JIT)
+def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q: np.ndarray, cs: np.ndarray,
+            lane: int) -> None:
+    """Branch k of pose i, raw[i, k] (n,), into lane ``lane`` of :func:`fk_lanes`' q
+    (n, L) and cs (2n, L): its finite revolute angles turned nearest q0 first (in raw
+    too); the cosines and sines already in cs are kept, those that are NaN (not known)
+    computed."""
+    for j in range(raw.shape[2]):
+        x = raw[i, k, j]
+        if rev[j] and math.isfinite(x):
+            x = nearest_turn(x, q0[j])
+            raw[i, k, j] = x
+        if rev[j] and not cs[2 * j, lane] == cs[2 * j, lane]:
+            cs[2 * j, lane], cs[2 * j + 1, lane] = math.cos(x), math.sin(x)
+        q[j, lane] = x
+
+
+@numba.njit(inline="always", **JIT)
+def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int, pos: np.ndarray, rot: np.ndarray,
+           e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float) -> tuple[int, int]:
+    """Pass 1 of pose i, in place: of its m raw branches raw[i, :m] (K, n) and
+    code[i, :m], their errors against the pose in pos[e0 + k] and rot[e0 + k]
+    (:func:`fk_lanes`; overwritten), the distinct ones kept (exact ones if any) move to
+    the front, with exact[i, k].  A branch with a value that is not finite is never
+    kept.  Returns (how many are kept, how many solutions they expand to)."""
+    n = raw.shape[2]
     any_exact = False
     for k in range(m):
-        q = raw[k]
-        ok = True
+        err = max(pos[e0 + k], rot[e0 + k])
         for j in range(n):
-            if not math.isfinite(q[j]):
-                ok = False
-            elif rev[j]:
-                q[j] = nearest_turn(q[j], q0[j])
-        err[k] = math.inf
-        if ok:
-            pos, chord = fk_error(H, P, rev, M, q, cs[k], T, check_rot)
-            err[k] = max(pos, chord)
-        any_exact = any_exact or err[k] <= tol
+            if not math.isfinite(raw[i, k, j]):
+                err = math.inf
+        pos[e0 + k] = err
+        any_exact = any_exact or err <= tol
     kept = 0
     for k in range(m):
-        if (any_exact and err[k] > tol) or not math.isfinite(err[k]):
+        err = pos[e0 + k]
+        if (any_exact and err > tol) or not math.isfinite(err):
             continue
         duplicate = False
         for k2 in range(kept):
             same = True
             for j in range(n):
-                d = raw[k, j] - raw[k2, j]
-                if rev[j]:
-                    d = nearest_turn(d, 0.0)
-                if abs(d) > SAME:
+                d = abs(raw[i, k, j] - raw[i, k2, j])
+                if rev[j] and d > math.pi:  # (a whole turn apart is the same angle)
+                    d = abs(nearest_turn(d, 0.0))
+                if d > SAME:
                     same = False
                     break
             if same:
@@ -156,15 +198,15 @@ def screen(raw: np.ndarray, code: np.ndarray, cs: np.ndarray, m: int, exact: np.
         if duplicate:
             continue
         for j in range(n):
-            raw[kept, j] = raw[k, j]
-        code[kept] = code[k]
-        exact[kept] = err[k] <= tol
+            raw[i, kept, j] = raw[i, k, j]
+        code[i, kept] = code[i, k]
+        exact[i, kept] = err <= tol
         kept += 1
     total = 0
     for k in range(kept):
         ways = 1
         for j in range(n):
-            x = raw[k, j]
+            x = raw[i, k, j]
             if mode == RAW:
                 continue
             if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
@@ -172,6 +214,8 @@ def screen(raw: np.ndarray, code: np.ndarray, cs: np.ndarray, m: int, exact: np.
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
                 if not (lo[j] - EDGE <= x <= hi[j] + EDGE):
                     ways = 0
+            if ways == 0:
+                break
         total += ways if mode == EVERY_TURN else min(ways, 1)
     return kept, total
 
@@ -217,25 +261,59 @@ def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) 
             order[a] = src[a]
 
 
-@numba.njit(**JIT)
-def expand(raw: np.ndarray, code: np.ndarray, kept: int, exact: np.ndarray, q0: np.ndarray, lo: np.ndarray,
-           hi: np.ndarray, rev: np.ndarray, mode: int, out: np.ndarray, out_code: np.ndarray,
+@numba.njit(inline="always", **JIT)
+def sort_raw(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
+             key: np.ndarray, order: np.ndarray, spare: np.ndarray, rows: np.ndarray) -> None:
+    """Pose i's ``kept`` branches in place nearest q0 first (Euclidean, rad and m; equal
+    distances in branch order), the rows after them padded (NaN, code -1, not exact): what
+    :func:`expand` would write for :data:`RAW`.  key, order, spare (K,) and rows (K, n)
+    are scratch."""
+    K, n = raw.shape[1], raw.shape[2]
+    for k in range(kept):
+        d2 = 0.0
+        for j in range(n):
+            d2 += (raw[i, k, j] - q0[j]) ** 2
+        key[k] = d2
+    stable_order(key, kept, order, spare)
+    for k in range(kept):  # the rows, codes and exactness as they were (key and spare are free now)
+        for j in range(n):
+            rows[k, j] = raw[i, k, j]
+        spare[k] = code[i, k]
+        key[k] = 1.0 if exact[i, k] else 0.0
+    for k in range(kept):
+        b = order[k]
+        for j in range(n):
+            raw[i, k, j] = rows[b, j]
+        code[i, k] = spare[b]
+        exact[i, k] = key[b] != 0.0
+    for k in range(kept, K):
+        for j in range(n):
+            raw[i, k, j] = np.nan
+        code[i, k] = -1
+        exact[i, k] = False
+
+
+@numba.njit(inline="always", **JIT)
+def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: int, q0: np.ndarray,
+           lo: np.ndarray, hi: np.ndarray, rev: np.ndarray, mode: int, out: np.ndarray, out_code: np.ndarray,
            out_exact: np.ndarray, work: np.ndarray, dist: np.ndarray, source: np.ndarray, order: np.ndarray,
            spare: np.ndarray, digit: np.ndarray, ways: np.ndarray, first: np.ndarray) -> int:
-    """Pass 2 of one pose: every turn of each of its ``kept`` branches into out (W, n),
-    nearest q0 first, with out_code and out_exact; returns how many.  The rest is scratch:
-    work (W, n), dist, source, order, spare (W,); digit, ways, first (n,)."""
-    n = raw.shape[1]
+    """Pass 2 of pose i: every turn of each of its ``kept`` branches raw[i, :kept] (with
+    code[i], exact[i]) into out[i] (W, n), nearest q0 first, with out_code[i] and
+    out_exact[i]; returns how many.  The rest is scratch: work (W, n), dist, source,
+    order, spare (W,); digit, ways, first (n,).  (Indexed, not sliced: a view of an array
+    costs two atomic reference counts.)"""
+    n = raw.shape[2]
     within = mode != RAW
     m = 0
     for k in range(kept):
-        q = raw[k]
         usable = True
         for j in range(n):
-            first[j], ways[j] = q[j], 1
+            x = raw[i, k, j]
+            first[j], ways[j] = x, 1
             if within and rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-                first[j], ways[j] = turns(q[j], lo[j], hi[j])
-            elif within and not (lo[j] - EDGE <= q[j] <= hi[j] + EDGE):
+                first[j], ways[j] = turns(x, lo[j], hi[j])
+            elif within and not (lo[j] - EDGE <= x <= hi[j] + EDGE):
                 usable = False
             digit[j] = 0
             if ways[j] == 0:
@@ -271,7 +349,7 @@ def expand(raw: np.ndarray, code: np.ndarray, kept: int, exact: np.ndarray, q0: 
     for a in range(m):
         b = order[a]
         for j in range(n):
-            out[a, j] = work[b, j]
-        out_code[a] = code[source[b]]
-        out_exact[a] = exact[source[b]]
+            out[i, a, j] = work[b, j]
+        out_code[i, a] = code[i, source[b]]
+        out_exact[i, a] = exact[i, source[b]]
     return m

@@ -36,7 +36,7 @@ import numba
 import numpy as np
 
 from robot_sim.ik.dense import apply_qt, determinant, householder, null_vector
-from robot_sim.ik.finish import expand, nearest_turn, screen
+from robot_sim.ik.finish import LANES, expand, fk_lanes, nearest_turn, screen, to_lane
 from robot_sim.ik.polish import polish
 from robot_sim.ik.realroots import real_roots
 from robot_sim.kernels.jit import INLINE, JIT
@@ -301,8 +301,9 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
     count = np.zeros(N, dtype=np.int64)
     exact = np.zeros((N, MAX_CANDIDATES), dtype=np.bool_)
     total = np.zeros(N, dtype=np.int64)
-    cs = np.empty((MAX_CANDIDATES, 12))  # no cosines known: screen computes them
-    err = np.empty(MAX_CANDIDATES)
+    lq, lcs = np.empty((6, MAX_CANDIDATES)), np.empty((12, MAX_CANDIDATES))
+    pose, pos, rot = np.empty(MAX_CANDIDATES, dtype=np.int64), np.empty(MAX_CANDIDATES), np.empty(MAX_CANDIDATES)
+    S = np.empty(12 * LANES)
     for i in range(N):
         got = candidates(Ts[i], Te[i], inv_size, C, axis6, E1, E2, O, Vi, W, H, RM, u6, reverse, table, modified,
                          base, tool, raw[i])
@@ -311,9 +312,12 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
                 raw[i, k, j] = nearest_turn(raw[i, k, j], 0.0)
         order = np.argsort(raw[i, :got, 2])
         raw[i, :got] = raw[i, order]
-        cs[:, :] = np.nan
-        count[i], total[i] = screen(raw[i], code[i], cs, got, exact[i], err, Hs, Ps, rev, Ms, Ts[i], q0, lo, hi,
-                                    mode, True, tol)
+        lcs[:, :] = np.nan  # no cosines known: to_lane computes them
+        for k in range(got):
+            to_lane(raw, i, k, rev, q0, lq, lcs, k)
+            pose[k] = i
+        fk_lanes(Hs, Ps, rev, Ms, Ts, pose, lq, lcs, got, True, S, pos, rot)
+        count[i], total[i] = screen(raw, code, exact, i, got, pos, rot, 0, rev, lo, hi, mode, tol)
         for k in range(count[i]):
             code[i, k] = k
     width = 0
@@ -332,6 +336,6 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
                             np.empty(width, dtype=np.int64))
     digit, ways, first = np.empty(6, dtype=np.int64), np.empty(6, dtype=np.int64), np.empty(6)
     for i in range(N):
-        out_count[i] = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, rev, mode, out[i], out_code[i],
-                              out_exact[i], work, dist, source, order, spare, digit, ways, first)
+        out_count[i] = expand(raw, code, exact, i, count[i], q0, lo, hi, rev, mode, out, out_code, out_exact,
+                              work, dist, source, order, spare, digit, ways, first)
     return out, out_code, out_exact, out_count, needed

@@ -15,7 +15,7 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
-from robot_sim.ik.finish import chord_angle, expand, fk_error, screen
+from robot_sim.ik.finish import LANES, RAW, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.jit import JIT
 
@@ -88,14 +88,20 @@ def _whole(gf: np.ndarray, gi: np.ndarray) -> tuple:
     return H, P, M, row[at:at + n], row[at + n:at + 2 * n], gi[_HEAD + 2 * m:_HEAD + 2 * m + n]
 
 
-@numba.njit(**JIT)
-def _inverse(T: np.ndarray, out: np.ndarray) -> None:
-    out[:, :] = 0.0
-    out[3, 3] = 1.0
+@numba.njit(inline="always", **JIT)
+def _pose(Ts: np.ndarray, i: int, inverse: bool, out: np.ndarray) -> None:
+    """Ts[i] (4, 4), or its inverse, into out (copied: a view of Ts would cost two atomic
+    reference counts per pose)."""
+    if not inverse:
+        for a in range(4):
+            for b in range(4):
+                out[a, b] = Ts[i, a, b]
+        return
+    out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
     for a in range(3):
         for b in range(3):
-            out[a, b] = T[b, a]
-        out[a, 3] = -(T[0, a] * T[0, 3] + T[1, a] * T[1, 3] + T[2, a] * T[2, 3])
+            out[a, b] = Ts[i, b, a]
+        out[a, 3] = -(Ts[i, 0, a] * Ts[i, 0, 3] + Ts[i, 1, a] * Ts[i, 1, 3] + Ts[i, 2, a] * Ts[i, 2, 3])
 
 
 @numba.njit(**JIT)
@@ -103,58 +109,76 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
     """Poses start..stop-1: the family's kernel for each free value (row v of gf is
     packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
-    then :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions."""
+    checked by :func:`robot_sim.ik.finish.fk_lanes` a block of poses at a time (at least
+    :data:`~robot_sim.ik.finish.LANES` branches together), then
+    :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions.  For
+    :data:`~robot_sim.ik.finish.RAW` the kept branches are sorted and padded as pass 2
+    would write them (:func:`robot_sim.ik.finish.sort_raw`), so that a batch as wide as
+    K·V needs no pass 2 (:func:`raw_is_answer`)."""
     kind, case, free, rev_chain, m, n = gi[0], gi[1], gi[6], gi[7] != 0, gi[8], gi[9]
     check_rot = gi[10] != 0
     idx = gi[2:6]
     revs = gi[_HEAD:_HEAD + m]  # nonzero: revolute
     keep = gi[_HEAD + m:_HEAD + 2 * m]
     K, V = BRANCH_COUNTS[kind], gf.shape[0]
+    L = K * V  # lanes per pose
+    G = max(1, LANES // L)  # poses per block
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
-    sub_cs = np.full((K, 2 * m), np.nan)  # the pose solvers write every row they return, the others none
+    sub_cs = np.full((K, 2 * m), np.nan)  # every solver but parallel_axes writes the rows it returns
     sub_code = np.zeros(K, dtype=np.int64)
-    cs = np.full((K * V, 2 * n), np.nan)  # a free joint's columns stay NaN: fk_error turns by its value
-    err = np.empty(K * V)
+    lq, lcs = np.zeros((n, G * L)), np.zeros((2 * n, G * L))  # lanes never written stay finite
+    pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
+    S = np.empty(12 * LANES)
+    branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
+    key, order, spare, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty(L, dtype=np.int64), np.empty((L, n))
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
-    Tinv = np.empty((4, 4))
+    T = np.empty((4, 4))
     row = gf[0]  # views made once: each view of an array costs two atomic reference counts
     Hs, Ps, Ms = _chain(row, _FHEAD, m)
     A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
-    for i in range(start, stop):
-        T = Ts[i]
-        if rev_chain:
-            _inverse(T, Tinv)
-            T = Tinv
-        got_all = 0
-        for v in range(V):
-            if V > 1:
-                row = gf[v]
-                Hs, Ps, Ms = _chain(row, _FHEAD, m)
-                A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
-            if kind == SPHERICAL_WRIST:
-                got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
-            elif kind == THREE_PARALLEL:
-                got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code, sub_cs)
-            elif kind == PARALLEL_AXES:
-                got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
-            else:
-                got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code)
-            for k in range(got):
-                at = got_all + k
-                for j in range(m):
-                    raw[i, at, keep[j]] = sub[k, j]
-                    cs[at, 2 * keep[j]] = sub_cs[k, 2 * j]
-                    cs[at, 2 * keep[j] + 1] = sub_cs[k, 2 * j + 1]
-                if free >= 0:
-                    raw[i, at, free] = row[0]
-                code[i, at] = sub_code[k]
-            got_all += got
-        count[i], total[i] = screen(raw[i], code[i], cs, got_all, exact[i], err, Hf, Pf, revf, Mf, Ts[i], q0, lo,
-                                    hi, mode, check_rot, tol)
+    for i0 in range(start, stop, G):
+        i1 = min(i0 + G, stop)
+        for i in range(i0, i1):
+            _pose(Ts, i, rev_chain, T)
+            got_all = 0
+            for v in range(V):
+                if V > 1:
+                    row = gf[v]
+                    Hs, Ps, Ms = _chain(row, _FHEAD, m)
+                    A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
+                if kind == SPHERICAL_WRIST:
+                    got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
+                elif kind == THREE_PARALLEL:
+                    got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code, sub_cs)
+                elif kind == PARALLEL_AXES:
+                    got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
+                else:
+                    got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code, sub_cs)
+                for k in range(got):
+                    at = got_all + k
+                    lane = (i - i0) * L + at
+                    for j in range(m):
+                        raw[i, at, keep[j]] = sub[k, j]
+                        lcs[2 * keep[j], lane] = sub_cs[k, 2 * j]
+                        lcs[2 * keep[j] + 1, lane] = sub_cs[k, 2 * j + 1]
+                    if free >= 0:
+                        raw[i, at, free] = row[0]
+                        lcs[2 * free, lane] = np.nan  # fk_lanes turns by its value
+                    code[i, at] = sub_code[k]
+                    to_lane(raw, i, at, revf, q0, lq, lcs, lane)
+                    pose[lane] = i
+                got_all += got
+            branches[i - i0] = got_all
+        fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
+        for i in range(i0, i1):
+            count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,
+                                        mode, tol)
+            if mode == RAW:
+                sort_raw(raw, code, exact, i, count[i], q0, key, order, spare, rows)
 
 
 @numba.njit(**JIT)
@@ -169,9 +193,9 @@ def pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int,
     source, order, spare = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
     digit, ways, first = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n)
     for i in range(start, stop):
-        k = expand(raw[i], code[i], count[i], exact[i], q0, lo, hi, revf, mode, out[i], out_code[i], out_exact[i],
+        k = expand(raw, code, exact, i, count[i], q0, lo, hi, revf, mode, out, out_code, out_exact,
                    work, dist, source, order, spare, digit, ways, first)
-        for a in range(k, W):  # the padding (by index: a view of a row costs two atomic reference counts)
+        for a in range(k, W):  # the padding
             for j in range(n):
                 out[i, a, j] = np.nan
             out_code[i, a] = -1
@@ -228,6 +252,15 @@ def width(total: np.ndarray, n: int) -> tuple[int, int]:
     return (0 if needed > MAX_VALUES else W), needed
 
 
+def raw_is_answer(mode: int, W: int, raw: np.ndarray) -> bool:
+    """Whether pass 1's arrays are already the answer: :data:`~robot_sim.ik.finish.RAW`
+    branches (sorted and padded by pass 1) as wide as the answer."""
+    return mode == RAW and W == raw.shape[1]
+
+
+_raw_is_answer = numba.njit(**JIT)(raw_is_answer)
+
+
 @numba.njit(**JIT)
 def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int) -> tuple:
     """Solutions of every pose Ts[i] (N, 4, 4), for each free value gf holds, with the
@@ -245,6 +278,8 @@ def run(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: in
         return raw, code, exact, count, 0, bad
     pass1(gf, gi, Ts, q0, mode, 0, N, raw, code, count, exact, total)
     W, needed = width(total, n)
+    if _raw_is_answer(mode, W, raw):
+        return raw, code, exact, count, needed, -1
     out, out_code, out_exact, out_count = _pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1
@@ -267,8 +302,14 @@ def reach_error(gf: np.ndarray, gi: np.ndarray, q: np.ndarray, T: np.ndarray) ->
     """Position error [m] and rotation angle [rad] of the tool at q (n,) against T (4, 4),
     on the whole chain packed in gf, gi."""
     H, P, M, _, _, rev = _whole(gf, gi)
-    pos, chord = fk_error(H, P, rev, M, q, np.full(2 * q.shape[0], np.nan), T, True)
-    return pos, chord_angle(chord)
+    n = q.shape[0]
+    lq, lcs = np.empty((n, 1)), np.empty((2 * n, 1))
+    for j in range(n):
+        lq[j, 0], lcs[2 * j, 0], lcs[2 * j + 1, 0] = q[j], math.cos(q[j]), math.sin(q[j])
+    pos, rot = np.empty(1), np.empty(1)
+    fk_lanes(H, P, rev, M, T.reshape((1, 4, 4)), np.zeros(1, dtype=np.int64), lq, lcs, 1, True,
+             np.empty(12 * LANES), pos, rot)
+    return pos[0], chord_angle(rot[0])
 
 
 @numba.njit(**JIT)

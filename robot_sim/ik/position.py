@@ -28,7 +28,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.ik.subproblems import add, dot, norm, perp, rot_cs, scale, sp1, sp2, sp3, sp4, sub
+from robot_sim.ik.subproblems import add, dot, norm, perp, rot_cs, scale, sp1_cs, sp2, sp3, sp4, sub
 from robot_sim.kernels.jit import JIT
 
 ONE_TWO_MEET, ONE_TWO_MEET_SLIDE, TWO_THREE_PARALLEL, ONE_TWO_PARALLEL, TWO_THREE_MEET = range(5)
@@ -48,12 +48,6 @@ def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, fl
 
 
 @numba.njit(inline="always", **JIT)
-def turn(h: tuple, p: tuple, q: float, x: tuple) -> tuple[float, float, float]:
-    """E(q) x for a revolute joint about the line (p, h)."""
-    return turn_cs(h, p, math.cos(q), math.sin(q), x)
-
-
-@numba.njit(**JIT)
 def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
                  pw: tuple) -> int:
     """Shoulder and elbow bits of arm joints q_0, q_1 (given by their cosines and sines)
@@ -71,8 +65,11 @@ def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, 
 
 @numba.njit(**JIT)
 def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw: tuple,
-                 q0: np.ndarray, out: np.ndarray) -> int:
-    """Every (q_0, q_1, q_2) putting w at pw, written to out[k, 0:3]; returns how many."""
+                 q0: np.ndarray, out: np.ndarray, cs: np.ndarray) -> int:
+    """Every (q_0, q_1, q_2) putting w at pw, written to out[k, 0:3], with cos q_j, sin q_j
+    in cs[k, 2j], cs[k, 2j + 1] (1, 0 for the slide of ``ONE_TWO_MEET_SLIDE``: it does not
+    turn); returns how many.  The cosines and sines come from the subproblems that gave
+    the angles (not from cos and sin of them)."""
     h0, h1, h2 = row(H, 0), row(H, 1), row(H, 2)
     p0, p1, p2 = row(P, 0), row(P, 1), row(P, 2)
     n = 0
@@ -84,42 +81,48 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
             b = dot(h2, sub(w, o))
             disc = b * b - dot(sub(w, o), sub(w, o)) + dist * dist
             root = math.sqrt(disc) if disc > 0.0 else 0.0
-            t3a, t3b = -b + root, -b - root
+            t3a, t3b = (-b + root, 1.0, 0.0), (-b - root, 1.0, 0.0)  # a slide: (1, 0) as it does not turn
         y = sub(pw, o)
-        for t3 in (t3a, t3b):
-            x = sub(add(w, scale(t3, h2)), o) if case == ONE_TWO_MEET_SLIDE else sub(turn(h2, p2, t3, w), o)
-            q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0])
-            for q1, q2 in ((-m1a[0], q2a[0]), (-m1b[0], q2b[0])):
-                out[n, 0], out[n, 1], out[n, 2] = q1, q2, t3
+        for t3, c3, s3 in (t3a, t3b):
+            if case == ONE_TWO_MEET_SLIDE:
+                x = sub(add(w, scale(t3, h2)), o)
+            else:
+                x = sub(turn_cs(h2, p2, c3, s3, w), o)
+            q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0], True)
+            for m1, q2 in ((m1a, q2a), (m1b, q2b)):
+                out[n, 0], out[n, 1], out[n, 2] = -m1[0], q2[0], t3
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = m1[1], -m1[2], q2[1], q2[2], c3, s3
                 n += 1
     elif case == TWO_THREE_PARALLEL:
         t1a, t1b, _, _ = sp4(h1, h0, sub(pw, p0), dot(h1, sub(w, p0)))
-        for t1 in (t1a, t1b):
-            y = turn(h0, p0, t1, pw)
+        for t1, c1, s1 in (t1a, t1b):
+            y = turn_cs(h0, p0, c1, s1, pw)
             dist = norm(perp(h1, sub(y, p1)))
             t3a, t3b, _, _ = sp3(h2, perp(h1, sub(w, p2)), perp(h1, sub(p2, p1)), dist)
-            for t3 in (t3a, t3b):
-                q2 = sp1(h1, sub(turn(h2, p2, t3, w), p1), sub(y, p1), q0[1])
+            for t3, c3, s3 in (t3a, t3b):
+                q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, w), p1), sub(y, p1), q0[1])
                 out[n, 0], out[n, 1], out[n, 2] = -t1, q2, t3
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, c2, s2, c3, s3
                 n += 1
     elif case == ONE_TWO_PARALLEL:
         t3a, t3b, _, _ = sp4(h0, h2, sub(w, p2), dot(h0, sub(pw, p2)))
         dist = norm(perp(h0, sub(pw, p0)))
-        for t3 in (t3a, t3b):
-            x = turn(h2, p2, t3, w)
+        for t3, c3, s3 in (t3a, t3b):
+            x = turn_cs(h2, p2, c3, s3, w)
             t2a, t2b, _, _ = sp3(h1, perp(h0, sub(x, p1)), perp(h0, sub(p1, p0)), dist)
-            for t2 in (t2a, t2b):
-                q1 = sp1(h0, sub(turn(h1, p1, t2, x), p0), sub(pw, p0), q0[0])
+            for t2, c2, s2 in (t2a, t2b):
+                q1, c1, s1 = sp1_cs(h0, sub(turn_cs(h1, p1, c2, s2, x), p0), sub(pw, p0), q0[0])
                 out[n, 0], out[n, 1], out[n, 2] = q1, t2, t3
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 n += 1
     else:  # TWO_THREE_MEET
         t1a, t1b, _, _ = sp3(h0, sub(pw, p0), sub(p0, o), norm(sub(w, o)))
         x = sub(w, o)
-        for t1 in (t1a, t1b):
-            y = sub(turn(h0, p0, t1, pw), o)
-            q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1])
-            for q2, q3 in ((-m2a[0], q3a[0]), (-m2b[0], q3b[0])):
-                out[n, 0], out[n, 1], out[n, 2] = -t1, q2, q3
+        for t1, c1, s1 in (t1a, t1b):
+            y = sub(turn_cs(h0, p0, c1, s1, pw), o)
+            q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1], True)
+            for m2, q3 in ((m2a, q3a), (m2b, q3b)):
+                out[n, 0], out[n, 1], out[n, 2] = -t1, -m2[0], q3[0]
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, m2[1], -m2[2], q3[1], q3[2]
                 n += 1
     return n
-

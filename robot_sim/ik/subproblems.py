@@ -103,32 +103,38 @@ def sp1(k: Vec, p1: Vec, p2: Vec, default: float) -> float:
 
 
 @numba.njit(**JIT)
-def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple[float, float, bool, bool]:
-    """Both θ with hᵀ R(k, θ) p = d: (θa, θb, exact, free).
+def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple:
+    """Both θ with hᵀ R(k, θ) p = d: (θa, θb, exact, free), each angle as (θ, cos θ, sin θ).
 
     hᵀR(k, θ)p = A cos θ + B sin θ + C with A = hᵀ(p − k kᵀp), B = hᵀ(k × p),
-    C = (hᵀk)(kᵀp), so θ = atan2(B, A) ± acos((d − C)/√(A² + B²)).  Out of reach the two
-    roots merge into the closest θ and ``exact`` is False; ``free`` when A = B = 0."""
+    C = (hᵀk)(kᵀp), so θ = φ ± δ with φ = atan2(B, A) and cos δ = (d − C)/√(A² + B²).
+    The cosines and sines of the roots follow from those of φ and δ by the angle sum (not
+    from cos and sin of θ).  Out of reach the two roots merge into the closest θ and
+    ``exact`` is False; ``free`` when A = B = 0 (θ = 0)."""
     A = dot(h, perp(k, p))
     B = dot(h, cross(k, p))
     C = dot(h, k) * dot(k, p)
     r = math.hypot(A, B)
     if r < DEGENERATE:
-        return 0.0, 0.0, abs(d - C) < 1e-9, True
+        zero = (0.0, 1.0, 0.0)
+        return zero, zero, abs(d - C) < 1e-9, True
     phi = math.atan2(B, A)
+    cp, sp = A / r, B / r
     c = (d - C) / r
     if c > 1.0:
-        return phi, phi, c < 1.0 + 1e-9, False
+        return (phi, cp, sp), (phi, cp, sp), c < 1.0 + 1e-9, False
     if c < -1.0:
-        return phi + math.pi, phi + math.pi, c > -1.0 - 1e-9, False
-    delta = math.acos(c)
-    return phi + delta, phi - delta, True, False
+        return (phi + math.pi, -cp, -sp), (phi + math.pi, -cp, -sp), c > -1.0 - 1e-9, False
+    s = math.sqrt((1.0 - c) * (1.0 + c))
+    delta = math.atan2(s, c)
+    return (phi + delta, cp * c - sp * s, sp * c + cp * s), (phi - delta, cp * c + sp * s, sp * c - cp * s), True, False
 
 
 @numba.njit(**JIT)
-def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple:
+def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float, both: bool) -> tuple:
     """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
-    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ).
+    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ); without ``both`` only
+    the first pair is solved (the second repeats it).
 
     The common image v = α k1 + β k2 ± γ k1×k2 satisfies k1ᵀv = k1ᵀp1, k2ᵀv = k2ᵀp2 and
     ‖v‖ = ‖p1‖ (directions only: p1 and p2 are normalised).  Out of reach γ = 0 (the
@@ -150,11 +156,14 @@ def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float) -> tuple:
     g = math.sqrt(g2) if g2 > 0.0 else 0.0
     va, vb = add(v0, scale(g, n)), sub(v0, scale(g, n))
     a1, a2 = perp(k1, u1), perp(k2, u2)  # SP1 four times, sharing what it can
-    return (_angle(k1, a1, perp(k1, va), d1), _angle(k2, a2, perp(k2, va), d2), _angle(k1, a1, perp(k1, vb), d1),
-            _angle(k2, a2, perp(k2, vb), d2), exact)
+    first, second = _angle(k1, a1, perp(k1, va), d1), _angle(k2, a2, perp(k2, va), d2)
+    if not both:
+        return first, second, first, second, exact
+    return first, second, _angle(k1, a1, perp(k1, vb), d1), _angle(k2, a2, perp(k2, vb), d2), exact
 
 
 @numba.njit(**JIT)
-def sp3(k: Vec, p1: Vec, p2: Vec, delta: float) -> tuple[float, float, bool, bool]:
-    """Both θ with ‖R(k, θ) p1 + p2‖ = δ, by ‖R p1 + p2‖² = ‖p1‖² + ‖p2‖² + 2 p2ᵀR p1 (SP4)."""
+def sp3(k: Vec, p1: Vec, p2: Vec, delta: float) -> tuple:
+    """Both θ with ‖R(k, θ) p1 + p2‖ = δ, by ‖R p1 + p2‖² = ‖p1‖² + ‖p2‖² + 2 p2ᵀR p1 (SP4),
+    as SP4 gives them."""
     return sp4(p2, k, p1, 0.5 * (delta * delta - dot(p1, p1) - dot(p2, p2)))

@@ -17,7 +17,7 @@ from typing import Callable
 
 import numpy as np
 
-from robot_sim.ik.pipeline import MAX_VALUES, begin, pass1, pass1_arrays, pass2, pass2_arrays, run, width
+from robot_sim.ik.pipeline import MAX_VALUES, begin, pass1, pass1_arrays, pass2, pass2_arrays, raw_is_answer, run, width
 
 #: Batches of at least this many poses are split over threads (a thread costs tens of µs).
 PARALLEL_POSES = 2000
@@ -66,6 +66,8 @@ def run_threads(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, 
         return raw, code, exact, count, 0, bad
     each_chunk(lambda a, b: pass1(gf, gi, Ts, q0, mode, a, b, raw, code, count, exact, total), N, threads)
     W, needed = width(total, n)
+    if raw_is_answer(mode, W, raw):
+        return raw, code, exact, count, needed, -1
     out, out_code, out_exact, out_count = pass2_arrays(N, W, n)
     if needed > MAX_VALUES:
         return out, out_code, out_exact, total, needed, -1

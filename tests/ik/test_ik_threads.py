@@ -101,3 +101,22 @@ def test_two_callers_solving_at_once_both_get_their_answer(monkeypatch: pytest.M
         for sols in got[k]:
             assert same((sols.q, sols.codes, sols.exact, sols.count),
                         (expected[k].q, expected[k].codes, expected[k].exact, expected[k].count))
+
+
+@pytest.mark.parametrize("reach", [1.0, 5.0])
+def test_raw_branches_sorted_by_pass_1_equal_those_of_pass_2(reach: float) -> None:
+    """Within reach a PUMA 560 batch has a pose with all 8 raw branches, so pass 1's sorted
+    and padded arrays are the answer; five times out of reach the least-squares branches
+    merge, at most 4 remain and pass 2 writes the answer.  Both equal the single-pose
+    answers."""
+    arm, T, q0 = poses("puma560", 40, 11)
+    T[:, :3, 3] *= reach
+    sols = ik_solutions(arm, T, q0, within_limits=False)
+    assert (sols.q.shape[1] == 8) == (reach == 1.0)
+    for i in range(len(T)):
+        one = ik_solutions(arm, T[i], q0, within_limits=False)
+        k = sols.count[i]
+        assert same((sols.q[i, :k], sols.codes[i, :k], sols.exact[i, :k]), (one.q, one.codes, one.exact))
+        assert np.isnan(sols.q[i, k:]).all() and (sols.codes[i, k:] == -1).all() and not sols.exact[i, k:].any()
+        d = np.linalg.norm(one.q - q0, axis=1)
+        assert np.all(np.diff(d) >= 0.0)  # nearest q0 first
