@@ -5,7 +5,7 @@ subfolders (tests/model, tests/io, ...) import the helper modules here (``paths`
 Also, for every process of the suite (``make test`` runs several side by side): one
 compile per kernel across them (:mod:`compile_lock`), and no time limit on a Hypothesis
 example (timing belongs in benchmarks; a deadline only fails a test on a loaded machine).
-The longest test files are collected first, so that ``make test``'s two workers (which take
+The longest test files are collected first, so that ``make test``'s workers (which take
 whole files in collection order) end together instead of one running them alone at the end."""
 from __future__ import annotations
 
