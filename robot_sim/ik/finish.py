@@ -125,7 +125,7 @@ def fk_lanes(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: n
 
 @numba.njit(inline="always", **JIT)
 def chord_angle(chord: float) -> float:
-    """The angle θ [rad] of a rotation chord 2 sin(θ/2) (:func:`fk_error`)."""
+    """The angle θ [rad] of a rotation chord 2 sin(θ/2) (:func:`fk_lanes`)."""
     return 2.0 * math.asin(min(1.0, 0.5 * chord))
 
 

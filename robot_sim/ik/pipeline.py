@@ -167,7 +167,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                         lcs[2 * keep[j] + 1, lane] = sub_cs[k, 2 * j + 1]
                     if free >= 0:
                         raw[i, at, free] = row[0]
-                        lcs[2 * free, lane] = np.nan  # fk_lanes turns by its value
+                        lcs[2 * free, lane] = np.nan  # to_lane takes its cosine and sine from its value
                     code[i, at] = sub_code[k]
                     to_lane(raw, i, at, revf, q0, lq, lcs, lane)
                     pose[lane] = i
