@@ -17,7 +17,8 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 
 # The default suite: every test but the slow parts of the robot and start sweeps.  Its
 # pytest runs go side by side: the headless tests (OSMesa) in front, in three pytest-xdist
-# workers (a test file stays on one worker, its module fixtures built once; a third worker
+# workers (a test file stays on one worker, its module fixtures built once; the longest
+# files first, in tests/conftest.py's order, not reordered by xdist; a third worker
 # on two cores fills the time the others wait for a kernel another process compiles or
 # for the browser: 235-237 s on a fresh clone against 238-264 s with two), the
 # real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
@@ -31,7 +32,7 @@ test: setup
 	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider tests/qt >$$log 2>&1 & window=$$!; \
 	trap 'kill $$window 2>/dev/null; rm -f $$log' INT TERM; \
 	echo "headless tests (OSMesa, three workers); the window tests run meanwhile under xvfb-run"; \
-	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -n 3 --dist loadfile; headless=$$?; \
+	PYOPENGL_PLATFORM=osmesa $(PY) -m pytest -q -n 3 --dist loadfile --no-loadscope-reorder; headless=$$?; \
 	wait $$window; windowed=$$?; \
 	echo "window tests (xvfb-run, pytest -m window tests/qt):"; cat $$log; rm -f $$log; \
 	test $$headless -eq 0 && test $$windowed -eq 0
