@@ -112,7 +112,7 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
     for j in range(arm - 1, -1, -1):  # from the last: arm solution j becomes rows 2j, 2j + 1
         q = (out[j, 0], out[j, 1], out[j, 2])
         c0, s0, c1, s1, c2, s2 = cs[j, 0], cs[j, 1], cs[j, 2], cs[j, 3], cs[j, 4], cs[j, 5]
-        bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
+        bits = posture_bits(H, P, f0, c1, s1, turn_cs(h0, row(P, 0), c0, -s0, pw))
         if rev[0] == 0 or rev[1] == 0 or rev[2] == 0:  # (R_0 R_1 R_2)ᵀ: the arm's turn undone (a slide does not turn)
             c0, s0 = (c0, s0) if rev[0] != 0 else (1.0, 0.0)
             c1, s1 = (c1, s1) if rev[1] != 0 else (1.0, 0.0)
@@ -149,7 +149,6 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
             z = turn_cs(h5, p5, c6, -s6, turn_cs(h4, p4, c5, -s5, p3))
             z = rtmul(M, sub(z, (M[0, 3], M[1, 3], M[2, 3])))
             y = turn_cs(h0, p0, c1, -s1, apply(T, z))
-            pw = turn_cs(h0, p0, c1, s1, y)
             t3a, t3b, _, _ = sp3(h2, a3, b3, norm(perp(h1, sub(y, p1))))
             for q3, c3, s3 in (t3a, t3b):
                 q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
@@ -157,7 +156,7 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
                 out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
                 c, s = ct * c2 + st * s2, st * c2 - ct * s2  # of total - q2, then less g2 q3
                 c4, s4 = c * c3 + g2 * s * s3, g3 * (s * c3 - g2 * c * s3)
-                code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c5, s5)
+                code[n] = posture_bits(H, P, f0, c2, s2, y) | wrist_bit(H, c5, s5)
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6
                 n += 1
@@ -209,6 +208,7 @@ def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.
     pw = (T[0, 3], T[1, 3], T[2, 3])
     n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out, cs)
     for k in range(n):
-        code[k] = posture_bits(H, P, row(A, 6), cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3], pw)
+        y = turn_cs(row(H, 0), row(P, 0), cs[k, 0], -cs[k, 1], pw)
+        code[k] = posture_bits(H, P, row(A, 6), cs[k, 2], cs[k, 3], y)
     return n
 

@@ -202,13 +202,13 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
         code[i, kept] = code[i, k]
         exact[i, kept] = err <= tol
         kept += 1
+    if mode == RAW:  # one solution per branch
+        return kept, kept
     total = 0
     for k in range(kept):
         ways = 1
         for j in range(n):
             x = raw[i, k, j]
-            if mode == RAW:
-                continue
             if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
                 ways *= turns(x, lo[j], hi[j])[1]
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
@@ -227,18 +227,21 @@ SHORT = 16
 @numba.njit(**JIT)
 def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) -> None:
     """order[:m] = the indices of key[:m] ascending, equal keys in index order (the
-    permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch."""
+    permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch.
+    Keys are never NaN (distances of finite joint values).
+
+    Up to :data:`SHORT` keys each goes straight to its rank, the count of keys before it
+    (smaller, or equal at a lower index): m² comparisons without a branch, which cost
+    less than the mispredicted branches of an insertion sort."""
+    if m <= SHORT:
+        for a in range(m):
+            x, rank = key[a], 0
+            for b in range(m):
+                rank += (key[b] < x) | ((key[b] == x) & (b < a))
+            order[rank] = a
+        return
     for a in range(m):
         order[a] = a
-    if m <= SHORT:
-        for a in range(1, m):
-            x = order[a]
-            b = a - 1
-            while b >= 0 and key[order[b]] > key[x]:
-                order[b + 1] = order[b]
-                b -= 1
-            order[b + 1] = x
-        return
     src, dst = order, spare
     in_order = True  # whether src is ``order``
     width = 1

@@ -48,15 +48,15 @@ def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, fl
 
 
 @numba.njit(inline="always", **JIT)
-def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
-                 pw: tuple) -> int:
-    """Shoulder and elbow bits of arm joints q_0, q_1 (given by their cosines and sines)
-    reaching the point pw."""
+def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c1: float, s1: float, y: tuple) -> int:
+    """Shoulder and elbow bits of an arm reaching the point pw, given y = E_0(q_0)⁻¹ pw
+    (the point with joint 0's turn undone) and joint 1's cosine and sine.  Joint 0's turn
+    fixes h_0 and keeps lengths, so both bits are judged before it: the point behind
+    axis 0, f0ᵀ(y − p_0) < 0, and the elbow E_1 p_2 below the line from the shoulder p_1
+    to y along h_0 (one turn, not four)."""
     h0, p0, h1, p1 = row(H, 0), row(P, 0), row(H, 1), row(P, 1)
-    bits = SHOULDER_LEFT if dot(f0, rot_cs(h0, c0, -s0, sub(pw, p0))) < 0.0 else 0
-    shoulder = turn_cs(h0, p0, c0, s0, p1)
-    elbow = turn_cs(h0, p0, c0, s0, turn_cs(h1, p1, c1, s1, row(P, 2)))
-    v, line = sub(elbow, shoulder), sub(pw, shoulder)
+    bits = SHOULDER_LEFT if dot(f0, sub(y, p0)) < 0.0 else 0
+    v, line = rot_cs(h1, c1, s1, sub(row(P, 2), p1)), sub(y, p1)
     ll = dot(line, line)
     if ll > 0.0:
         v = sub(v, scale(dot(v, line) / ll, line))

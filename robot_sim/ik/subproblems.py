@@ -122,8 +122,9 @@ def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple:
         zero = (0.0, 1.0, 0.0)
         return zero, zero, abs(d - C) < 1e-9, True
     phi = atan2(B, A)
-    cp, sp = A / r, B / r
-    c = (d - C) / r
+    inv = 1.0 / r
+    cp, sp = A * inv, B * inv
+    c = (d - C) * inv
     if c > 1.0:
         return (phi, cp, sp), (phi, cp, sp), c < 1.0 + 1e-9, False
     if c < -1.0:
