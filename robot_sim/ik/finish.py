@@ -138,9 +138,7 @@ def nearest_turn(x: float, target: float) -> float:
 def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     """(first turn of angle x at or above lo, how many turns lie in [lo, hi])."""
     first = x + TWO_PI * math.ceil((lo - EDGE - x) * PER_TURN)
-    if first > hi + EDGE:
-        return first, 0
-    return first, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1
+    return first, max(0, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1)  # (no branch to mispredict)
 
 
 @numba.njit(inline="always", **JIT)
@@ -310,25 +308,24 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
     within = mode != RAW
     m = 0
     for k in range(kept):
-        usable = True
+        combos = 1
         for j in range(n):
             x = raw[i, k, j]
-            first[j], ways[j] = x, 1
+            f, w = x, 1
             if within and rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-                first[j], ways[j] = turns(x, lo[j], hi[j])
+                f, w = turns(x, lo[j], hi[j])
             elif within and not (lo[j] - EDGE <= x <= hi[j] + EDGE):
-                usable = False
-            digit[j] = 0
-            if ways[j] == 0:
-                usable = False
-            elif mode == NEAREST_TURN and ways[j] > 1:  # one turn: the nearest q0 (the lowest on a tie)
+                w = 0
+            first[j], ways[j], digit[j] = f, w, 0
+            if mode == NEAREST_TURN and w > 1:  # one turn: the nearest q0 (the lowest on a tie)
                 best = math.inf
-                for d in range(0, ways[j]):
-                    x = min(max(first[j] + TWO_PI * d, lo[j]), hi[j])
+                for d in range(w):
+                    x = min(max(f + TWO_PI * d, lo[j]), hi[j])
                     if (x - q0[j]) ** 2 < best:
                         best, digit[j] = (x - q0[j]) ** 2, d
                 ways[j] = digit[j] + 1  # the enumeration below stops after it
-        while usable:
+            combos *= ways[j] - digit[j]
+        for c in range(combos):  # every combination of turns, joint 0 fastest
             d2 = 0.0
             for j in range(n):
                 x = first[j] + TWO_PI * digit[j]
@@ -339,15 +336,13 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
             dist[m] = d2
             source[m] = k
             m += 1
-            j = 0  # next combination of turns, joint 0 fastest
-            while j < n:
+            j = 0
+            while c + 1 < combos:  # the next combination (none after the last)
                 digit[j] += 1
                 if digit[j] < ways[j]:
                     break
                 digit[j] = 0
                 j += 1
-            if j == n:
-                break
     stable_order(dist, m, order, spare)  # equal distances keep branch order
     for a in range(m):
         b = order[a]
