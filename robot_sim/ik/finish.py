@@ -145,15 +145,17 @@ def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
 def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q: np.ndarray, cs: np.ndarray,
             lane: int) -> None:
     """Branch k of pose i, raw[i, k] (n,), into lane ``lane`` of :func:`fk_lanes`' q
-    (n, L) and cs (2n, L): its finite revolute angles turned nearest q0 first (in raw
-    too); the cosines and sines already in cs are kept, those that are NaN (not known)
-    computed."""
+    (n, L) and cs (2n, L).  A revolute angle whose cosine and sine cs holds is the one q
+    holds already (their atan2), any other value is raw's; finite revolute angles are
+    turned nearest q0 (in raw too), and the cosines and sines that are NaN (not known)
+    computed from the angles."""
     for j in range(raw.shape[2]):
-        x = raw[i, k, j]
+        known = cs[2 * j, lane] == cs[2 * j, lane]
+        x = q[j, lane] if rev[j] and known else raw[i, k, j]
         if rev[j] and math.isfinite(x):
             x = nearest_turn(x, q0[j])
-            raw[i, k, j] = x
-        if rev[j] and not cs[2 * j, lane] == cs[2 * j, lane]:
+        raw[i, k, j] = x
+        if rev[j] and not known:
             cs[2 * j, lane], cs[2 * j + 1, lane] = math.cos(x), math.sin(x)
         q[j, lane] = x
 

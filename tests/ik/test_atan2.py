@@ -1,7 +1,8 @@
 """The compiled atan2 of robot_sim.kernels.atan2 against the C library's ``math.atan2``
 (IBM's correctly rounded one in glibc): within 1 ulp on 10⁶ pairs spread over quadrants,
 octants, magnitudes, ratios near the table's grid and near the axes; equal, signed zeros
-included, on the special values; and the fused multiply-add it is built on rounds once."""
+included, on the special values; a row at once equal to it; and the fused multiply-add it
+is built on rounds once."""
 from __future__ import annotations
 
 import math
@@ -9,10 +10,10 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.kernels.atan2 import STEPS, atan2, fma
+from robot_sim.kernels.atan2 import STEPS, atan2, atan2_row, fma
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, error_model="numpy")  # as the package compiles (JIT)
 def _atan2_all(y: np.ndarray, x: np.ndarray) -> np.ndarray:
     out = np.empty(y.shape[0])
     for i in range(y.shape[0]):
@@ -20,7 +21,15 @@ def _atan2_all(y: np.ndarray, x: np.ndarray) -> np.ndarray:
     return out
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, error_model="numpy")  # as the package compiles (JIT)
+def _rows(Y: np.ndarray, X: np.ndarray, m: int) -> np.ndarray:
+    out = np.full(Y.shape, -7.0)
+    for r in range(Y.shape[0]):
+        atan2_row(Y, r, X, r, out, r, m)
+    return out
+
+
+@numba.njit(cache=False, error_model="numpy")  # as the package compiles (JIT)
 def _fma(a: float, b: float, c: float) -> float:
     return fma(a, b, c)
 
@@ -73,6 +82,18 @@ def test_special_values_are_the_c_librarys() -> None:
     assert (got[finite].view(np.int64) == want[finite].view(np.int64)).all()  # bit for bit, signed zeros too
     assert _atan2_all(np.array([-0.0, 0.0, 1.0]), np.array([-1.0, -1.0, 1.0])).tolist() == [-math.pi, math.pi,
                                                                                             math.pi / 4]
+
+
+def test_a_row_at_once_is_the_scalar_atan2_bit_for_bit() -> None:
+    rng = np.random.default_rng(3)
+    Y, X = rng.normal(size=(3, 40)), rng.normal(size=(3, 40))
+    Y[1, [0, 5, 9]], X[1, [0, 5, 9]] = [0.0, np.nan, np.inf], [0.0, 1.0, -2.0]  # row 1: the C library's pairs
+    got = _rows(Y, X, 37)
+    want = _atan2_all(Y.ravel(), X.ravel()).reshape(Y.shape)
+    assert (np.isnan(got) == np.isnan(want))[:, :37].all() and np.isnan(got[1, 5])
+    finite = ~np.isnan(want[:, :37])
+    assert (got[:, :37][finite].view(np.int64) == want[:, :37][finite].view(np.int64)).all()
+    assert (got[:, 37:] == -7.0).all()  # nothing past m
 
 
 def test_fma_rounds_once() -> None:
