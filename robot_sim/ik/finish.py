@@ -212,15 +212,12 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
             if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
                 ways *= turns(x, lo[j], hi[j])[1]
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
-                if not (lo[j] - EDGE <= x <= hi[j] + EDGE):
-                    ways = 0
-            if ways == 0:
-                break
+                ways *= (lo[j] - EDGE <= x) & (x <= hi[j] + EDGE)  # (no branch on the value to mispredict)
         total += ways if mode == EVERY_TURN else min(ways, 1)
     return kept, total
 
 
-#: Up to this many solutions are sorted by insertion, more by merging.
+#: Up to this many solutions are sorted by rank, more by merging.
 SHORT = 16
 
 
@@ -316,8 +313,8 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
             f, w = x, 1
             if within and rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
                 f, w = turns(x, lo[j], hi[j])
-            elif within and not (lo[j] - EDGE <= x <= hi[j] + EDGE):
-                w = 0
+            elif within:
+                w = int((lo[j] - EDGE <= x) & (x <= hi[j] + EDGE))
             first[j], ways[j], digit[j] = f, w, 0
             if mode == NEAREST_TURN and w > 1:  # one turn: the nearest q0 (the lowest on a tie)
                 best = math.inf
