@@ -176,7 +176,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                 got_all += got
             branches[i - i0] = got_all
         for j in range(n):  # the angles of the cosines and sines, all lanes at once
-            if revf[j]:
+            if revf[j] and j != free and kind != PARALLEL_AXES:  # (these two give values, no cosines)
                 atan2_row(lcs, 2 * j + 1, lcs, 2 * j, lq, j, (i1 - i0) * L)
         for i in range(i0, i1):
             for at in range(branches[i - i0]):
