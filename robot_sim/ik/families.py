@@ -2,10 +2,11 @@
 (:mod:`robot_sim.ik.geometry`): ``E_0(q_0) ⋯ E_{m-1}(q_{m-1}) M = T``.
 
 Each solver writes every branch of one pose into ``out`` (K, m) and its posture bits into
-``code`` (K,), and returns how many it wrote.  All but :func:`parallel_axes` also write
-the cosine and sine of each angle they turn by into ``cs`` (K, 2m: cos q_j at 2j,
-sin q_j at 2j + 1), as the subproblems give them, for the arm's wrist and the check by
-forward kinematics to take instead of computing them again.  ``A`` holds the constant
+``code`` (K,), and returns how many it wrote.  All but :func:`parallel_axes` give each
+angle by its cosine and sine in ``cs`` (K, 2m: cos q_j at 2j, sin q_j at 2j + 1), as the
+subproblems give them, and NaN in ``out`` for it: the angles are taken by atan2 a block of
+branches at once (:func:`robot_sim.ik.pipeline.pass1`); ``out`` holds the value of a
+slide.  :func:`parallel_axes` writes every value to ``out``.  ``A`` holds the constant
 points and directions the classification prepared (rows listed per solver).  Angles that a singular
 pose leaves free take their value in ``q0``.
 
@@ -24,13 +25,12 @@ pose leaves free take their value in ``q0``.
 """
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
 from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn_cs
 from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
+from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT
 
 SPHERICAL_WRIST, THREE_PARALLEL, PARALLEL_AXES, POSITION_ONLY = range(4)
@@ -77,23 +77,23 @@ def wrist_bit(H: np.ndarray, c5: float, s5: float) -> int:
 def wrist(H: np.ndarray, arm: tuple, arm_cs: tuple, bits: int, rw6: tuple, rwx: tuple, x6: tuple,
           q0: np.ndarray, out: np.ndarray, code: np.ndarray, cs: np.ndarray, n: int) -> None:
     """The two wrists (q_3, q_4, q_5) with R_3 R_4 R_5 = R_w, given R_w h_5 and R_w x6
-    (x6 ⟂ h_5); rows n, n+1 of out get the arm joints ``arm`` and one wrist each, of
-    code the arm's posture ``bits`` with the wrist's, and of cs the arm's ``arm_cs``
-    (6 numbers) with the wrist's."""
+    (x6 ⟂ h_5); rows n, n+1 of out get the arm's joint values ``arm`` (NaN for a turn:
+    its angle comes from its cosine and sine) and NaN for the wrist's, of code the arm's
+    posture ``bits`` with the wrist's, and of cs the arm's ``arm_cs`` (6 numbers) with the
+    wrist's."""
     h3, h4, h5 = row(H, 3), row(H, 4), row(H, 5)
     # h_5 = ±h_3 and h_4 ⟂ h_3 (a ZYZ wrist): R_3(q4 + π) R_4(−q5) R_5(q6 + π) = R_3(q4) R_4(q5) R_5(q6),
     # since R_3(π) turns h_4 into −h_4 and R_3(π) R_5(π) = I; the second wrist follows from the first
     zyz = norm(cross(h3, h5)) < ALIGNED and abs(dot(h3, h4)) < ALIGNED
     q5a, m4a, q5b, m4b, _ = sp2(h4, h5, h3, rw6, q0[4], -q0[3], not zyz)
-    for k, (m4, (q5, c5, s5)) in enumerate(((m4a, q5a), (m4b, q5b))):
-        q4, c4, s4 = -m4[0], m4[1], -m4[2]
+    for k, (m4, (c5, s5)) in enumerate(((m4a, q5a), (m4b, q5b))):
+        c4, s4 = m4[0], -m4[1]
         if k == 1 and zyz:
-            q4, q5, q6 = out[n, 3] + math.pi, -out[n, 4], out[n, 5] + math.pi
             c4, s4, c5, s5, c6, s6 = -cs[n, 6], -cs[n, 7], cs[n, 8], -cs[n, 9], -cs[n, 10], -cs[n, 11]
         else:
-            q6, c6, s6 = sp1_cs(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
+            c6, s6 = sp1_cs(h5, x6, rot_cs(h4, c5, -s5, rot_cs(h3, c4, -s4, rwx)), q0[5])
         out[n + k, 0], out[n + k, 1], out[n + k, 2] = arm
-        out[n + k, 3], out[n + k, 4], out[n + k, 5] = q4, q5, q6
+        out[n + k, 3], out[n + k, 4], out[n + k, 5] = np.nan, np.nan, np.nan
         code[n + k] = bits | wrist_bit(H, c5, s5)
         cs[n + k, 0], cs[n + k, 1], cs[n + k, 2], cs[n + k, 3], cs[n + k, 4], cs[n + k, 5] = arm_cs
         cs[n + k, 6], cs[n + k, 7], cs[n + k, 8], cs[n + k, 9], cs[n + k, 10], cs[n + k, 11] = c4, s4, c5, s5, c6, s6
@@ -112,7 +112,7 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
     for j in range(arm - 1, -1, -1):  # from the last: arm solution j becomes rows 2j, 2j + 1
         q = (out[j, 0], out[j, 1], out[j, 2])
         c0, s0, c1, s1, c2, s2 = cs[j, 0], cs[j, 1], cs[j, 2], cs[j, 3], cs[j, 4], cs[j, 5]
-        bits = posture_bits(H, P, f0, c0, s0, c1, s1, pw)
+        bits = posture_bits(H, P, f0, c1, s1, turn_cs(h0, row(P, 0), c0, -s0, pw))
         if rev[0] == 0 or rev[1] == 0 or rev[2] == 0:  # (R_0 R_1 R_2)ᵀ: the arm's turn undone (a slide does not turn)
             c0, s0 = (c0, s0) if rev[0] != 0 else (1.0, 0.0)
             c1, s1 = (c1, s1) if rev[1] != 0 else (1.0, 0.0)
@@ -136,28 +136,27 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, T
     a3, b3 = perp(h1, sub(p3, p2)), perp(h1, sub(p2, p1))
     n = 0
     t1a, t1b, _, _ = sp4(h1, h0, sub(po, p0), dot(h1, sub(row(A, 0), p0)))
-    for t1, ct1, st1 in (t1a, t1b):
-        q1, c1, s1 = -t1, ct1, -st1
+    for ct1, st1 in (t1a, t1b):
+        c1, s1 = ct1, -st1
         t5a, t5b, _, _ = sp4(h1, h4, h5, dot(h1, rot_cs(h0, c1, -s1, r6)))
         back = rmul(M, rtmul(T, rot_cs(h0, c1, s1, h1)))  # Rᵀ R_0 h_1 with R = R_T R_Mᵀ
-        for q5, c5, s5 in (t5a, t5b):
-            m6, c6, s6 = sp1_cs(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
-            q6, s6 = -m6, -s6
+        for c5, s5 in (t5a, t5b):
+            c6, s6 = sp1_cs(h5, rot_cs(h4, c5, -s5, h1), back, -q0[5])
+            s6 = -s6
             v = rot_cs(h0, c1, -s1, rmul(T, rtmul(M, rot_cs(h5, c6, -s6, rot_cs(h4, c5, -s5, x1)))))
-            total, ct, st = sp1_cs(h1, x1, v, q0[1] + g2 * q0[2] + g3 * q0[3])
+            ct, st = sp1_cs(h1, x1, v, q0[1] + g2 * q0[2] + g3 * q0[3])  # of q_1 + g2 q_2 + g3 q_3
             # y = E_0⁻¹ T M⁻¹ E_5⁻¹ E_4⁻¹ p3, the point on axis 3 that joints 1 and 2 must reach
             z = turn_cs(h5, p5, c6, -s6, turn_cs(h4, p4, c5, -s5, p3))
             z = rtmul(M, sub(z, (M[0, 3], M[1, 3], M[2, 3])))
             y = turn_cs(h0, p0, c1, -s1, apply(T, z))
-            pw = turn_cs(h0, p0, c1, s1, y)
             t3a, t3b, _, _ = sp3(h2, a3, b3, norm(perp(h1, sub(y, p1))))
-            for q3, c3, s3 in (t3a, t3b):
-                q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
-                q4 = g3 * (total - q2 - g2 * q3)
-                out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = q1, q2, q3, q4, q5, q6
-                c, s = ct * c2 + st * s2, st * c2 - ct * s2  # of total - q2, then less g2 q3
+            for c3, s3 in (t3a, t3b):
+                c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, p3), p1), sub(y, p1), q0[1])
+                for j in range(6):
+                    out[n, j] = np.nan
+                c, s = ct * c2 + st * s2, st * c2 - ct * s2  # of the sum less q_2, then less g2 q_3: g3 q_4
                 c4, s4 = c * c3 + g2 * s * s3, g3 * (s * c3 - g2 * c * s3)
-                code[n] = posture_bits(H, P, f0, c1, s1, c2, s2, pw) | wrist_bit(H, c5, s5)
+                code[n] = posture_bits(H, P, f0, c2, s2, y) | wrist_bit(H, c5, s5)
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 cs[n, 6], cs[n, 7], cs[n, 8], cs[n, 9], cs[n, 10], cs[n, 11] = c4, s4, c5, s5, c6, s6
                 n += 1
@@ -187,7 +186,8 @@ def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, 
     dist = norm(perp(h, sub(target, pa)))
     tba, tbb, _, _ = sp3(hb, perp(h, sub(point, pb)), perp(h, sub(pb, pa)), dist)
     n = 0
-    for qb, cb, sb_ in (tba, tbb):
+    for cb, sb_ in (tba, tbb):
+        qb = atan2(sb_, cb)
         elbow = sub(turn_cs(hb, pb, cb, sb_, point), pa)
         qa = sp1(ha, elbow, sub(target, pa), q0[a])
         out[n, :] = 0.0
@@ -209,6 +209,7 @@ def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, T: np.
     pw = (T[0, 3], T[1, 3], T[2, 3])
     n = arm_position(case, H, P, row(A, 5), row(A, 0), pw, q0, out, cs)
     for k in range(n):
-        code[k] = posture_bits(H, P, row(A, 6), cs[k, 0], cs[k, 1], cs[k, 2], cs[k, 3], pw)
+        y = turn_cs(row(H, 0), row(P, 0), cs[k, 0], -cs[k, 1], pw)
+        code[k] = posture_bits(H, P, row(A, 6), cs[k, 2], cs[k, 3], y)
     return n
 

@@ -138,24 +138,24 @@ def nearest_turn(x: float, target: float) -> float:
 def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     """(first turn of angle x at or above lo, how many turns lie in [lo, hi])."""
     first = x + TWO_PI * math.ceil((lo - EDGE - x) * PER_TURN)
-    if first > hi + EDGE:
-        return first, 0
-    return first, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1
+    return first, max(0, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1)  # (no branch to mispredict)
 
 
 @numba.njit(inline="always", **JIT)
 def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q: np.ndarray, cs: np.ndarray,
             lane: int) -> None:
     """Branch k of pose i, raw[i, k] (n,), into lane ``lane`` of :func:`fk_lanes`' q
-    (n, L) and cs (2n, L): its finite revolute angles turned nearest q0 first (in raw
-    too); the cosines and sines already in cs are kept, those that are NaN (not known)
-    computed."""
+    (n, L) and cs (2n, L).  A revolute angle whose cosine and sine cs holds is the one q
+    holds already (their atan2), any other value is raw's; finite revolute angles are
+    turned nearest q0 (in raw too), and the cosines and sines that are NaN (not known)
+    computed from the angles."""
     for j in range(raw.shape[2]):
-        x = raw[i, k, j]
+        known = cs[2 * j, lane] == cs[2 * j, lane]
+        x = q[j, lane] if rev[j] and known else raw[i, k, j]
         if rev[j] and math.isfinite(x):
             x = nearest_turn(x, q0[j])
-            raw[i, k, j] = x
-        if rev[j] and not cs[2 * j, lane] == cs[2 * j, lane]:
+        raw[i, k, j] = x
+        if rev[j] and not known:
             cs[2 * j, lane], cs[2 * j + 1, lane] = math.cos(x), math.sin(x)
         q[j, lane] = x
 
@@ -202,43 +202,43 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
         code[i, kept] = code[i, k]
         exact[i, kept] = err <= tol
         kept += 1
+    if mode == RAW:  # one solution per branch
+        return kept, kept
     total = 0
     for k in range(kept):
         ways = 1
         for j in range(n):
             x = raw[i, k, j]
-            if mode == RAW:
-                continue
             if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
                 ways *= turns(x, lo[j], hi[j])[1]
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
-                if not (lo[j] - EDGE <= x <= hi[j] + EDGE):
-                    ways = 0
-            if ways == 0:
-                break
+                ways *= (lo[j] - EDGE <= x) & (x <= hi[j] + EDGE)  # (no branch on the value to mispredict)
         total += ways if mode == EVERY_TURN else min(ways, 1)
     return kept, total
 
 
-#: Up to this many solutions are sorted by insertion, more by merging.
+#: Up to this many solutions are sorted by rank, more by merging.
 SHORT = 16
 
 
 @numba.njit(**JIT)
 def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) -> None:
     """order[:m] = the indices of key[:m] ascending, equal keys in index order (the
-    permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch."""
+    permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch.
+    Keys are never NaN (distances of finite joint values).
+
+    Up to :data:`SHORT` keys each goes straight to its rank, the count of keys before it
+    (smaller, or equal at a lower index): m² comparisons without a branch, which cost
+    less than the mispredicted branches of an insertion sort."""
+    if m <= SHORT:
+        for a in range(m):
+            x, rank = key[a], 0
+            for b in range(m):
+                rank += (key[b] < x) | ((key[b] == x) & (b < a))
+            order[rank] = a
+        return
     for a in range(m):
         order[a] = a
-    if m <= SHORT:
-        for a in range(1, m):
-            x = order[a]
-            b = a - 1
-            while b >= 0 and key[order[b]] > key[x]:
-                order[b + 1] = order[b]
-                b -= 1
-            order[b + 1] = x
-        return
     src, dst = order, spare
     in_order = True  # whether src is ``order``
     width = 1
@@ -307,25 +307,24 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
     within = mode != RAW
     m = 0
     for k in range(kept):
-        usable = True
+        combos = 1
         for j in range(n):
             x = raw[i, k, j]
-            first[j], ways[j] = x, 1
+            f, w = x, 1
             if within and rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-                first[j], ways[j] = turns(x, lo[j], hi[j])
-            elif within and not (lo[j] - EDGE <= x <= hi[j] + EDGE):
-                usable = False
-            digit[j] = 0
-            if ways[j] == 0:
-                usable = False
-            elif mode == NEAREST_TURN and ways[j] > 1:  # one turn: the nearest q0 (the lowest on a tie)
+                f, w = turns(x, lo[j], hi[j])
+            elif within:
+                w = int((lo[j] - EDGE <= x) & (x <= hi[j] + EDGE))
+            first[j], ways[j], digit[j] = f, w, 0
+            if mode == NEAREST_TURN and w > 1:  # one turn: the nearest q0 (the lowest on a tie)
                 best = math.inf
-                for d in range(0, ways[j]):
-                    x = min(max(first[j] + TWO_PI * d, lo[j]), hi[j])
+                for d in range(w):
+                    x = min(max(f + TWO_PI * d, lo[j]), hi[j])
                     if (x - q0[j]) ** 2 < best:
                         best, digit[j] = (x - q0[j]) ** 2, d
                 ways[j] = digit[j] + 1  # the enumeration below stops after it
-        while usable:
+            combos *= ways[j] - digit[j]
+        for c in range(combos):  # every combination of turns, joint 0 fastest
             d2 = 0.0
             for j in range(n):
                 x = first[j] + TWO_PI * digit[j]
@@ -336,15 +335,13 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
             dist[m] = d2
             source[m] = k
             m += 1
-            j = 0  # next combination of turns, joint 0 fastest
-            while j < n:
+            j = 0
+            while c + 1 < combos:  # the next combination (none after the last)
                 digit[j] += 1
                 if digit[j] < ways[j]:
                     break
                 digit[j] = 0
                 j += 1
-            if j == n:
-                break
     stable_order(dist, m, order, spare)  # equal distances keep branch order
     for a in range(m):
         b = order[a]

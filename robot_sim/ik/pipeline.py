@@ -17,6 +17,7 @@ from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist,
 from robot_sim.ik.family import BRANCHES
 from robot_sim.ik.finish import LANES, RAW, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
+from robot_sim.kernels.atan2 import atan2_row
 from robot_sim.kernels.jit import JIT
 
 FloatArray = NDArray[np.float64]
@@ -108,7 +109,9 @@ def _pose(Ts: np.ndarray, i: int, inverse: bool, out: np.ndarray) -> None:
 def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
     """Poses start..stop-1: the family's kernel for each free value (row v of gf is
-    packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n),
+    packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n)
+    (the angles the kernels give by cosine and sine taken by
+    :func:`robot_sim.kernels.atan2.atan2_row`, every lane of a block at once),
     checked by :func:`robot_sim.ik.finish.fk_lanes` a block of poses at a time (at least
     :data:`~robot_sim.ik.finish.LANES` branches together), then
     :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions.  For
@@ -169,10 +172,15 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                         raw[i, at, free] = row[0]
                         lcs[2 * free, lane] = np.nan  # to_lane takes its cosine and sine from its value
                     code[i, at] = sub_code[k]
-                    to_lane(raw, i, at, revf, q0, lq, lcs, lane)
                     pose[lane] = i
                 got_all += got
             branches[i - i0] = got_all
+        for j in range(n):  # the angles of the cosines and sines, all lanes at once
+            if revf[j] and j != free and kind != PARALLEL_AXES:  # (these two give values, no cosines)
+                atan2_row(lcs, 2 * j + 1, lcs, 2 * j, lq, j, (i1 - i0) * L)
+        for i in range(i0, i1):
+            for at in range(branches[i - i0]):
+                to_lane(raw, i, at, revf, q0, lq, lcs, (i - i0) * L + at)
         fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
         for i in range(i0, i1):
             count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,

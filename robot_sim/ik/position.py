@@ -48,15 +48,15 @@ def turn_cs(h: tuple, p: tuple, c: float, s: float, x: tuple) -> tuple[float, fl
 
 
 @numba.njit(inline="always", **JIT)
-def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, c1: float, s1: float,
-                 pw: tuple) -> int:
-    """Shoulder and elbow bits of arm joints q_0, q_1 (given by their cosines and sines)
-    reaching the point pw."""
+def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c1: float, s1: float, y: tuple) -> int:
+    """Shoulder and elbow bits of an arm reaching the point pw, given y = E_0(q_0)⁻¹ pw
+    (the point with joint 0's turn undone) and joint 1's cosine and sine.  Joint 0's turn
+    fixes h_0 and keeps lengths, so both bits are judged before it: the point behind
+    axis 0, f0ᵀ(y − p_0) < 0, and the elbow E_1 p_2 below the line from the shoulder p_1
+    to y along h_0 (one turn, not four)."""
     h0, p0, h1, p1 = row(H, 0), row(P, 0), row(H, 1), row(P, 1)
-    bits = SHOULDER_LEFT if dot(f0, rot_cs(h0, c0, -s0, sub(pw, p0))) < 0.0 else 0
-    shoulder = turn_cs(h0, p0, c0, s0, p1)
-    elbow = turn_cs(h0, p0, c0, s0, turn_cs(h1, p1, c1, s1, row(P, 2)))
-    v, line = sub(elbow, shoulder), sub(pw, shoulder)
+    bits = SHOULDER_LEFT if dot(f0, sub(y, p0)) < 0.0 else 0
+    v, line = rot_cs(h1, c1, s1, sub(row(P, 2), p1)), sub(y, p1)
     ll = dot(line, line)
     if ll > 0.0:
         v = sub(v, scale(dot(v, line) / ll, line))
@@ -66,17 +66,19 @@ def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c0: float, s0: float, 
 @numba.njit(**JIT)
 def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw: tuple,
                  q0: np.ndarray, out: np.ndarray, cs: np.ndarray) -> int:
-    """Every (q_0, q_1, q_2) putting w at pw, written to out[k, 0:3], with cos q_j, sin q_j
-    in cs[k, 2j], cs[k, 2j + 1] (1, 0 for the slide of ``ONE_TWO_MEET_SLIDE``: it does not
-    turn); returns how many.  The cosines and sines come from the subproblems that gave
-    the angles (not from cos and sin of them)."""
+    """Every (q_0, q_1, q_2) putting w at pw: cos q_j, sin q_j in cs[k, 2j], cs[k, 2j + 1]
+    as the subproblems give them (the angles follow by atan2,
+    :func:`robot_sim.ik.pipeline.pass1`), out[k, 0:3] NaN but for the slide of
+    ``ONE_TWO_MEET_SLIDE`` (out[k, 2], with cosine and sine 1, 0: it does not turn);
+    returns how many."""
     h0, h1, h2 = row(H, 0), row(H, 1), row(H, 2)
     p0, p1, p2 = row(P, 0), row(P, 1), row(P, 2)
     n = 0
     if case == ONE_TWO_MEET or case == ONE_TWO_MEET_SLIDE:
         dist = norm(sub(pw, o))
         if case == ONE_TWO_MEET:
-            t3a, t3b, _, _ = sp3(h2, sub(w, p2), sub(p2, o), dist)
+            (c3a, s3a), (c3b, s3b), _, _ = sp3(h2, sub(w, p2), sub(p2, o), dist)
+            t3a, t3b = (np.nan, c3a, s3a), (np.nan, c3b, s3b)
         else:
             b = dot(h2, sub(w, o))
             disc = b * b - dot(sub(w, o), sub(w, o)) + dist * dist
@@ -90,39 +92,39 @@ def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw
                 x = sub(turn_cs(h2, p2, c3, s3, w), o)
             q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, y, q0[1], -q0[0], True)
             for m1, q2 in ((m1a, q2a), (m1b, q2b)):
-                out[n, 0], out[n, 1], out[n, 2] = -m1[0], q2[0], t3
-                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = m1[1], -m1[2], q2[1], q2[2], c3, s3
+                out[n, 0], out[n, 1], out[n, 2] = np.nan, np.nan, t3
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = m1[0], -m1[1], q2[0], q2[1], c3, s3
                 n += 1
-    elif case == TWO_THREE_PARALLEL:
+        return n
+    if case == TWO_THREE_PARALLEL:
         t1a, t1b, _, _ = sp4(h1, h0, sub(pw, p0), dot(h1, sub(w, p0)))
-        for t1, c1, s1 in (t1a, t1b):
+        for c1, s1 in (t1a, t1b):
             y = turn_cs(h0, p0, c1, s1, pw)
             dist = norm(perp(h1, sub(y, p1)))
             t3a, t3b, _, _ = sp3(h2, perp(h1, sub(w, p2)), perp(h1, sub(p2, p1)), dist)
-            for t3, c3, s3 in (t3a, t3b):
-                q2, c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, w), p1), sub(y, p1), q0[1])
-                out[n, 0], out[n, 1], out[n, 2] = -t1, q2, t3
+            for c3, s3 in (t3a, t3b):
+                c2, s2 = sp1_cs(h1, sub(turn_cs(h2, p2, c3, s3, w), p1), sub(y, p1), q0[1])
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, c2, s2, c3, s3
                 n += 1
     elif case == ONE_TWO_PARALLEL:
         t3a, t3b, _, _ = sp4(h0, h2, sub(w, p2), dot(h0, sub(pw, p2)))
         dist = norm(perp(h0, sub(pw, p0)))
-        for t3, c3, s3 in (t3a, t3b):
+        for c3, s3 in (t3a, t3b):
             x = turn_cs(h2, p2, c3, s3, w)
             t2a, t2b, _, _ = sp3(h1, perp(h0, sub(x, p1)), perp(h0, sub(p1, p0)), dist)
-            for t2, c2, s2 in (t2a, t2b):
-                q1, c1, s1 = sp1_cs(h0, sub(turn_cs(h1, p1, c2, s2, x), p0), sub(pw, p0), q0[0])
-                out[n, 0], out[n, 1], out[n, 2] = q1, t2, t3
+            for c2, s2 in (t2a, t2b):
+                c1, s1 = sp1_cs(h0, sub(turn_cs(h1, p1, c2, s2, x), p0), sub(pw, p0), q0[0])
                 cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, s1, c2, s2, c3, s3
                 n += 1
     else:  # TWO_THREE_MEET
         t1a, t1b, _, _ = sp3(h0, sub(pw, p0), sub(p0, o), norm(sub(w, o)))
         x = sub(w, o)
-        for t1, c1, s1 in (t1a, t1b):
+        for c1, s1 in (t1a, t1b):
             y = sub(turn_cs(h0, p0, c1, s1, pw), o)
             q3a, m2a, q3b, m2b, _ = sp2(h2, x, h1, y, q0[2], -q0[1], True)
             for m2, q3 in ((m2a, q3a), (m2b, q3b)):
-                out[n, 0], out[n, 1], out[n, 2] = -t1, -m2[0], q3[0]
-                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, m2[1], -m2[2], q3[1], q3[2]
+                cs[n, 0], cs[n, 1], cs[n, 2], cs[n, 3], cs[n, 4], cs[n, 5] = c1, -s1, m2[0], -m2[1], q3[0], q3[1]
                 n += 1
+    for k in range(n):
+        out[k, 0], out[k, 1], out[k, 2] = np.nan, np.nan, np.nan
     return n

@@ -1,5 +1,9 @@
 """Canonical geometric subproblems of inverse kinematics, compiled (numba), on 3-vectors
-held as tuples (no heap allocation in the solvers' inner loops).
+held as tuples (no heap allocation in the solvers' inner loops).  Each angle is given
+by its cosine and sine: what the solvers turn by next, and all that the check by forward
+kinematics needs.  The angle itself is taken by atan2 where it is asked
+(:func:`robot_sim.ik.pipeline.pass1` takes those of a block of branches at once, in
+vector registers).
 
 The definitions are IK-Geo's (A. J. Elias and J. T. Wen, "IK-Geo: Unified robot inverse
 kinematics using subproblem decomposition", Mechanism and Machine Theory 209, 2025,
@@ -17,6 +21,7 @@ import math
 
 import numba
 
+from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT
 
 Vec = tuple[float, float, float]
@@ -78,70 +83,70 @@ DEGENERATE = 1e-12
 
 
 @numba.njit(inline="always", **JIT)
-def _angle(k: Vec, a: Vec, b: Vec, default: float) -> tuple[float, float, float]:
-    """(θ, cos θ, sin θ) for the θ that turns a onto b about k, both ⟂ k; ``default``
-    when either vanishes.  The cosine and sine come from the vectors (a square root and
-    a division, not cos and sin of θ)."""
+def _angle(k: Vec, a: Vec, b: Vec, default: float) -> tuple[float, float]:
+    """(cos θ, sin θ) for the θ that turns a onto b about k, both ⟂ k; θ = ``default``
+    when either vanishes.  They come from the vectors (a square root and a division, not
+    cos and sin of θ)."""
     if dot(a, a) < DEGENERATE * DEGENERATE or dot(b, b) < DEGENERATE * DEGENERATE:
-        return default, math.cos(default), math.sin(default)
+        return math.cos(default), math.sin(default)
     y, x = dot(k, cross(a, b)), dot(a, b)
     r = 1.0 / math.sqrt(x * x + y * y)
-    return math.atan2(y, x), x * r, y * r
+    return x * r, y * r
 
 
 @numba.njit(**JIT)
-def sp1_cs(k: Vec, p1: Vec, p2: Vec, default: float) -> tuple[float, float, float]:
-    """(θ, cos θ, sin θ) for the θ that turns p1 about k onto p2 (their projections on
-    the plane ⟂ k); θ = ``default`` when either projection vanishes (any θ does)."""
+def sp1_cs(k: Vec, p1: Vec, p2: Vec, default: float) -> tuple[float, float]:
+    """(cos θ, sin θ) for the θ that turns p1 about k onto p2 (their projections on the
+    plane ⟂ k); θ = ``default`` when either projection vanishes (any θ does)."""
     return _angle(k, perp(k, p1), perp(k, p2), default)
 
 
 @numba.njit(**JIT)
 def sp1(k: Vec, p1: Vec, p2: Vec, default: float) -> float:
-    """θ of :func:`sp1_cs`."""
-    return _angle(k, perp(k, p1), perp(k, p2), default)[0]
+    """θ of :func:`sp1_cs` (in [−π, π])."""
+    c, s = _angle(k, perp(k, p1), perp(k, p2), default)
+    return atan2(s, c)
 
 
 @numba.njit(**JIT)
 def sp4(h: Vec, k: Vec, p: Vec, d: float) -> tuple:
-    """Both θ with hᵀ R(k, θ) p = d: (θa, θb, exact, free), each angle as (θ, cos θ, sin θ).
+    """Both θ with hᵀ R(k, θ) p = d: (θa, θb, exact, free), each angle as (cos θ, sin θ).
 
     hᵀR(k, θ)p = A cos θ + B sin θ + C with A = hᵀ(p − k kᵀp), B = hᵀ(k × p),
-    C = (hᵀk)(kᵀp), so θ = φ ± δ with φ = atan2(B, A) and cos δ = (d − C)/√(A² + B²).
-    The cosines and sines of the roots follow from those of φ and δ by the angle sum (not
-    from cos and sin of θ).  Out of reach the two roots merge into the closest θ and
-    ``exact`` is False; ``free`` when A = B = 0 (θ = 0)."""
+    C = (hᵀk)(kᵀp), so θ = φ ± δ with (cos φ, sin φ) = (A, B)/√(A² + B²) and
+    cos δ = (d − C)/√(A² + B²); the roots' cosines and sines follow by the angle sum.  Out
+    of reach the two roots merge into the closest θ and ``exact`` is False; ``free`` when
+    A = B = 0 (θ = 0)."""
     A = dot(h, perp(k, p))
     B = dot(h, cross(k, p))
     C = dot(h, k) * dot(k, p)
-    r = math.hypot(A, B)
+    r = math.sqrt(A * A + B * B)  # not hypot: A, B are lengths of an arm (no overflow; below DEGENERATE either way)
     if r < DEGENERATE:
-        zero = (0.0, 1.0, 0.0)
+        zero = (1.0, 0.0)
         return zero, zero, abs(d - C) < 1e-9, True
-    phi = math.atan2(B, A)
-    cp, sp = A / r, B / r
-    c = (d - C) / r
+    inv = 1.0 / r
+    cp, sp = A * inv, B * inv
+    c = (d - C) * inv
     if c > 1.0:
-        return (phi, cp, sp), (phi, cp, sp), c < 1.0 + 1e-9, False
+        return (cp, sp), (cp, sp), c < 1.0 + 1e-9, False
     if c < -1.0:
-        return (phi + math.pi, -cp, -sp), (phi + math.pi, -cp, -sp), c > -1.0 - 1e-9, False
+        return (-cp, -sp), (-cp, -sp), c > -1.0 - 1e-9, False
     s = math.sqrt((1.0 - c) * (1.0 + c))
-    delta = math.atan2(s, c)
-    return (phi + delta, cp * c - sp * s, sp * c + cp * s), (phi - delta, cp * c + sp * s, sp * c - cp * s), True, False
+    return (cp * c - sp * s, sp * c + cp * s), (cp * c + sp * s, sp * c - cp * s), True, False
 
 
 @numba.njit(**JIT)
 def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, d1: float, d2: float, both: bool) -> tuple:
     """Both (θ1, θ2) with R(k1, θ1) p1 = R(k2, θ2) p2 for non-parallel unit k1, k2:
-    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (θ, cos θ, sin θ); without ``both`` only
-    the first pair is solved (the second repeats it).
+    (θ1a, θ2a, θ1b, θ2b, exact), each angle as (cos θ, sin θ); without ``both`` only the
+    first pair is solved (the second repeats it).
 
     The common image v = α k1 + β k2 ± γ k1×k2 satisfies k1ᵀv = k1ᵀp1, k2ᵀv = k2ᵀp2 and
     ‖v‖ = ‖p1‖ (directions only: p1 and p2 are normalised).  Out of reach γ = 0 (the
     closest pair).  ``d1``, ``d2`` are the angles used where one is free (p on its axis)."""
     n1, n2 = norm(p1), norm(p2)
     if n1 < DEGENERATE or n2 < DEGENERATE:
-        a, b = (d1, math.cos(d1), math.sin(d1)), (d2, math.cos(d2), math.sin(d2))
+        a, b = (math.cos(d1), math.sin(d1)), (math.cos(d2), math.sin(d2))
         return a, b, a, b, n1 < DEGENERATE and n2 < DEGENERATE
     u1, u2 = scale(1.0 / n1, p1), scale(1.0 / n2, p2)
     k12 = dot(k1, k2)
