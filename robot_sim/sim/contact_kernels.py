@@ -363,7 +363,7 @@ def contact_hold(q, qd, dh, modified, C, update, posed, threshold, F, tau):
     return _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since, tau)
 
 
-@njit(**JIT)
+@njit(**UNCOUNTED)
 def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     """Fix the contact frames of a step's start at (q, qd) for the active pairs ``rows`` of
     the contact tuple ``C``: per pair and contact point, into its ``out`` (A, POINTS, OUT),
@@ -408,8 +408,12 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     moving = update and mu > 0.0
     if contact_hold(q, qd, dh, modified, C, update, posed, threshold, F, work[6]):
         return False
-    work[4][:] = out  # what a caller that takes the step back restores
-    work[5][:] = fixed
+    saved = work[4]  # what a caller that takes the step back restores
+    for p in range(out.shape[0]):
+        for e in range(POINTS):
+            for c in range(OUT):
+                saved[p, e, c] = out[p, e, c]
+    _copy(fixed, work[5])
     if not posed:
         _pose_active(q, dh, modified, C, work)
     reach = math.inf
@@ -434,7 +438,7 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
             if apart:
                 reach = min(reach, bound)
             else:
-                end[:] = recs[i]
+                _copy(recs[i], end)
                 for c in range(3):
                     end[L.POS + c] = ends[far][c]
                 result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
@@ -460,7 +464,7 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                 anchored[p, e] = False
             if out[p, e, O_ON] == 1.0:
                 _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
-    fixed[:n] = q
+    _copy(q, fixed[:n])
     fixed[n] = reach
     _stage_points(F, qd, axis_frame, revolute, mu, out, work[6])
     return True
@@ -593,6 +597,13 @@ def moved(arms, q, q0):
     for j in range(q.shape[0]):
         bound += arms[j] * abs(q[j] - q0[j])
     return 2.0 * bound
+
+
+@njit(**INLINE)
+def _copy(x, y):
+    """The vector x into y (no temporary: for :data:`UNCOUNTED` kernels)."""
+    for c in range(x.shape[0]):
+        y[c] = x[c]
 
 
 @njit(**INLINE)
