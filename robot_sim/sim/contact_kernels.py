@@ -466,7 +466,7 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                 _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
     _copy(q, fixed[:n])
     fixed[n] = reach
-    _stage_points(F, qd, axis_frame, revolute, mu, out, work[6])
+    stage_points(F, qd, axis_frame, revolute, mu, out, work[6])
     return True
 
 
@@ -498,12 +498,12 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
     force on b acts at b, its opposite at a.  Inlined where it is called: it reads no
     array but these (a compiled call's array arguments cost time)."""
     frames(dh, modified, world0, q, F)
-    _stage_points(F, qd, axis_frame, revolute, mu, out, tau)
+    stage_points(F, qd, axis_frame, revolute, mu, out, tau)
 
 
 @njit(**INLINE)
-def _stage_points(F, qd, axis_frame, revolute, mu, out, tau):
-    """:func:`contact_stage` at the link frames F of q and the rates qd."""
+def stage_points(F, qd, axis_frame, revolute, mu, out, tau):
+    """:func:`contact_stage` at the link frames F (n + 1, 3, 4) of q and the rates qd."""
     for j in range(tau.shape[0]):
         tau[j] = 0.0
     for p in range(out.shape[0]):

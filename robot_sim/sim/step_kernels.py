@@ -22,8 +22,9 @@ from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
 from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
-from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_stage, contact_work, margin, moved,
-                                           near_slack)
+from robot_sim.kernels.chain import frames_cs
+from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_work, margin, moved, near_slack,
+                                           stage_points)
 
 
 @njit(**INLINE)
@@ -64,17 +65,20 @@ def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM,
     (q, v) of the contact points of the step: given when ``staged`` (the step's start,
     from ``contact_begin``), else computed into it (``contact_stage``, inlined here: the
     step's contact frames, gains and anchors in ``out``; ``world0``, ``axis_frame``,
-    ``revolute``, ``mu`` of the contact tuple; Fc room for the link frames); the ``held``
+    ``revolute``, ``mu`` of the contact tuple; Fc room for the link frames, posed from
+    the dynamics' cosines and sines of the joint angles); the ``held``
     joints locked when ``any_held`` (their reaction into ``react``); the rest:
     :func:`step_work`'s arrays.  Compiled on its own, not inlined into the step: the
     step's machine code stays as small and as fast as without contact.  Only the arrays
     used are passed, and their references are not counted (``UNCOUNTED``): a call's
     arguments cost time."""
     if not staged:
-        contact_stage(q, v, P, modified, world0, axis_frame, revolute, mu, out, Fc, extra)
+        geometry(P, modified, q, O, CS)
+        frames_cs(P, modified, world0, q, CS, Fc)
+        stage_points(Fc, v, axis_frame, revolute, mu, out, extra)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
-    fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
+    fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM, not staged)
 
 
 @njit(**INLINE)
@@ -115,7 +119,7 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
             at_q, at_v = (q, v) if stage == 0 else (qs, vs)
             if contact is None:
                 fd_one(P, modified, at_q, at_v, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F,
-                       NM)
+                       NM, False)
             else:
                 _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
                        work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[19], cwork[0],
