@@ -314,33 +314,30 @@ def _held_point(F, out, p, s):
 def _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since, tau):
     """:func:`contact_begin` keeping the frames it fixed last (the arm has moved at most
     ``since`` <= HOLD [m] since, and no capsule end left out then can come within
-    ``threshold``): each point's distance and witness points in its held frame into
-    ``out``, with ``update`` the anchors moved and released as from exact ones, and the
-    contact torque at the start into tau (each point's force right after its anchors:
-    what :func:`contact_stage` gives at the start, in one pass).  False (nothing written but slot 0's held distances) when a pair's distance is within
-    2 ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
+    ``threshold``): with ``update`` the anchors moved and released as from exact ones,
+    then each point's distance, witness points and force in its held frame into ``out``
+    and the contact torque at the start into tau (:func:`contact_stage`).  False
+    (nothing written but slot 0's held distances) when a pair's distance is within 2
+    ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
     ``since`` of their common value at the fix, could fall on either side, and the
     pair's staying active must be decided on the exact one."""
     for p in range(out.shape[0]):
         d = _held_point(F, out, p, 0)[0]
         if abs(d - threshold) <= 2.0 * since + HOLD_TOL:
             return False
-    for j in range(tau.shape[0]):
-        tau[j] = 0.0
-    for p in range(out.shape[0]):
+    for p in range(out.shape[0] if update else 0):
         touches = gains[p, K_N] > 0.0
         for s in range(POINTS):
             if out[p, s, O_ON] == 0.0:
                 continue
             d, a, b, n, ka, kb = _held_point(F, out, p, s)
-            if update:
-                if mu > 0.0 and touches and d < 0.0:
-                    _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
-                if not (d < 0.0 and touches):
-                    anchored[p, s] = False
-                _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p],
-                              anchors[p, s], anchored[p, s])
-            _point_force(F, out, p, s, d, a, b, n, ka, kb, qd, axis_frame, revolute, mu, tau)
+            if mu > 0.0 and touches and d < 0.0:
+                _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
+            if not (d < 0.0 and touches):
+                anchored[p, s] = False
+            _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p], anchors[p, s],
+                          anchored[p, s])
+    contact_stage(F, qd, axis_frame, revolute, mu, out, tau)
     return True
 
 
@@ -466,18 +463,19 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                 _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
     _copy(q, fixed[:n])
     fixed[n] = reach
-    stage_points(F, qd, axis_frame, revolute, mu, out, work[6])
+    contact_stage(F, qd, axis_frame, revolute, mu, out, work[6])
     return True
 
 
-@njit(**INLINE)
-def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F, tau):
+@njit(**UNCOUNTED)
+def contact_stage(F, qd, axis_frame, revolute, mu, out, tau):
     """The joint torque tau (n,) at (q, qd) of the contact points that take part in the
     step (O_ON, fixed by :func:`contact_begin` at its start, which also wrote what is
     read here into ``out``), and per point into ``out`` its distance, first witness
-    point, force and anchor offset.  ``dh``, ``modified``, ``world0``: the model table,
-    its convention and frame 0 in the world; ``axis_frame``, ``revolute``, ``mu`` as in
-    the contact tuple; ``F`` (n + 1, 3, 4): room for the link frames.
+    point, force and anchor offset.  ``F`` (n + 1, 3, 4): the link frames at q;
+    ``axis_frame``, ``revolute``, ``mu`` as in the contact tuple.  Compiled once and
+    called by every kernel that needs the contact torque (a call costs less than
+    compiling it into each).
 
     The contact frame is held over the step: each point keeps the normal n of the step's
     start, and the core points under its witness points move with their bodies (a
@@ -495,15 +493,7 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
     along n (ḋ the separation rate).  With friction (mu > 0) the tangential force is
     −k_T u − c_T v_t, capped at mu · f_n, where u is the part across n of the offset
     between the point's two anchors (zero where not set) and v_t the slip velocity.  The
-    force on b acts at b, its opposite at a.  Inlined where it is called: it reads no
-    array but these (a compiled call's array arguments cost time)."""
-    frames(dh, modified, world0, q, F)
-    stage_points(F, qd, axis_frame, revolute, mu, out, tau)
-
-
-@njit(**INLINE)
-def stage_points(F, qd, axis_frame, revolute, mu, out, tau):
-    """:func:`contact_stage` at the link frames F (n + 1, 3, 4) of q and the rates qd."""
+    force on b acts at b, its opposite at a."""
     for j in range(tau.shape[0]):
         tau[j] = 0.0
     for p in range(out.shape[0]):
@@ -511,26 +501,20 @@ def stage_points(F, qd, axis_frame, revolute, mu, out, tau):
             if out[p, s, O_ON] == 0.0:
                 continue
             d, a, b, n, ka, kb = _held_point(F, out, p, s)
-            _point_force(F, out, p, s, d, a, b, n, ka, kb, qd, axis_frame, revolute, mu, tau)
-
-
-@njit(**INLINE)
-def _point_force(F, out, p, s, d, a, b, n, ka, kb, qd, axis_frame, revolute, mu, tau):
-    """Contact point s of active pair p at its held distance d, witness points a, b and
-    normal n (:func:`_held_point`): its force (:func:`_contact_force`, zero unless it
-    touches) into tau and ``out``."""
-    for c in range(3):
-        out[p, s, O_FORCE + c] = 0.0
-        out[p, s, O_SLIP + c] = 0.0
-    if out[p, s, O_GAINS + K_N] > 0.0 and d < 0.0:
-        _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, mu, out, p, s, tau)
+            for c in range(3):
+                out[p, s, O_FORCE + c] = 0.0
+                out[p, s, O_SLIP + c] = 0.0
+            if out[p, s, O_GAINS + K_N] > 0.0 and d < 0.0:
+                _contact_force(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, mu, out, p, s, tau)
 
 
 @njit(**JIT)
 def contact_torque(q, qd, dh, modified, C, tau, work):
     """:func:`contact_stage` at (q, qd) for the contact tuple ``C`` and its
-    :func:`contact_work`: the joint torque of the step's contact points into tau."""
-    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[19], work[0], tau)
+    :func:`contact_work` (``dh``, ``modified``: the model table and its convention): the
+    joint torque of the step's contact points into tau."""
+    frames(dh, modified, C[0], q, work[0])
+    contact_stage(work[0], qd, C[9], C[10], C[15], C[19], tau)
 
 
 @njit(**INLINE)

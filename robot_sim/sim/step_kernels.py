@@ -23,8 +23,8 @@ from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
 from robot_sim.kernels.chain import frames_cs
-from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_work, margin, moved, near_slack,
-                                           stage_points)
+from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_stage, contact_work, margin, moved,
+                                           near_slack)
 
 
 @njit(**INLINE)
@@ -63,10 +63,10 @@ def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM,
            world0, axis_frame, revolute, mu, out, Fc, staged):
     """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque ``extra`` at
     (q, v) of the contact points of the step: given when ``staged`` (the step's start,
-    from ``contact_begin``), else computed into it (``contact_stage``, inlined here: the
-    step's contact frames, gains and anchors in ``out``; ``world0``, ``axis_frame``,
-    ``revolute``, ``mu`` of the contact tuple; Fc room for the link frames, posed from
-    the dynamics' cosines and sines of the joint angles); the ``held``
+    from ``contact_begin``), else computed into it (``contact_stage``: the step's contact
+    frames, gains and anchors in ``out``; ``world0``, ``axis_frame``, ``revolute``,
+    ``mu`` of the contact tuple; Fc room for the link frames, posed from the dynamics'
+    cosines and sines of the joint angles, which ``fd_one`` then takes); the ``held``
     joints locked when ``any_held`` (their reaction into ``react``); the rest:
     :func:`step_work`'s arrays.  Compiled on its own, not inlined into the step: the
     step's machine code stays as small and as fast as without contact.  Only the arrays
@@ -75,7 +75,7 @@ def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM,
     if not staged:
         geometry(P, modified, q, O, CS)
         frames_cs(P, modified, world0, q, CS, Fc)
-        stage_points(Fc, v, axis_frame, revolute, mu, out, extra)
+        contact_stage(Fc, v, axis_frame, revolute, mu, out, extra)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
     fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM, not staged)
