@@ -267,13 +267,15 @@ def crba_one(P, modified, M, O, CS):
 
 
 @njit(**JIT)
-def fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM):
-    """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out``.  With ``use_held``, the joints j with
+def fd_one(P, modified, q, qd, tau, g0, fext, use_ext, held, use_held, out, react, zero, bias, M, O, CS, F, NM, posed):
+    """q̈ = M⁻¹ (τ − C q̇ − g − τ_f + ext) into ``out`` (O, CS: :func:`geometry` of q,
+    computed here unless ``posed``, when the caller did).  With ``use_held``, the joints j with
     ``held[j]`` are locked: their rows and columns of M are replaced by the identity's and
     their right-hand side by 0, so q̈_j = 0 exactly, and their reaction
     λ_j = (M q̈ − (τ − C q̇ − g − τ_f + ext))_j goes into ``react`` (0.0 elsewhere; ``react``
     is not touched without ``use_held``)."""
-    geometry(P, modified, q, O, CS)
+    if not posed:
+        geometry(P, modified, q, O, CS)
     rnea_one(P, modified, qd, zero, g0, fext, use_ext, bias, O, CS, F, NM)
     n = P.shape[0]
     for j in range(n):
@@ -381,7 +383,7 @@ def fd_vec(P, q, qd, tau, g0, qdd):
     O, CS, F, NM = np.empty((n, 3)), np.empty((n, 2)), np.empty((n, 3)), np.empty((n, 3))
     zero, bias, M = np.zeros(n), np.empty(n), np.empty((n, n))
     no_held = np.zeros(1, dtype=np.bool_)  # not a global: numba would freeze it read-only, another signature of fd_one
-    fd_one(P, modified, q, qd, tau, g0, O[0], False, no_held, False, qdd, zero, zero, bias, M, O, CS, F, NM)
+    fd_one(P, modified, q, qd, tau, g0, O[0], False, no_held, False, qdd, zero, zero, bias, M, O, CS, F, NM, False)
     return True
 
 
@@ -437,6 +439,6 @@ def fd_batch(P, Q, QD, TAU, g0, FEXT, use_ext, QDD):
     finite = True
     for i in range(Q.shape[0]):
         fd_one(P, modified, Q[i], QD[i], TAU[i], g0, FEXT[i if use_ext else 0], use_ext, no_held, False, QDD[i], zero, zero,
-                bias, M, O, CS, F, NM)
+                bias, M, O, CS, F, NM, False)
         finite = finite and all_finite(Q[i]) and all_finite(QD[i]) and all_finite(TAU[i])
     return finite

@@ -14,35 +14,57 @@ from __future__ import annotations
 import numpy as np
 
 from robot_sim.kernels.algebra import cos_sin
-from robot_sim.kernels.jit import JIT, njit
+from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import A, CA, D, REV, SA, TH
 
 
 @njit(**JIT)
 def frames(T, modified, base, q, F):
     """World frames 0..n of q into F (n + 1, 3, 4)."""
-    n = T.shape[0]
+    _base(base, F)
+    for j in range(T.shape[0]):
+        rev = T[j, REV] != 0.0
+        th = T[j, TH] + q[j] if rev else T[j, TH]
+        c, s = cos_sin(th)
+        _next_frame(T, modified, q, j, c, s, F)
+
+
+@njit(**INLINE)
+def frames_cs(T, modified, base, q, CS, F):
+    """:func:`frames` with cos θ_j, sin θ_j at q given in CS (n, 2) (as
+    ``dynamics.compiled.geometry`` leaves them): the same frames, without computing them
+    again."""
+    _base(base, F)
+    for j in range(T.shape[0]):
+        _next_frame(T, modified, q, j, CS[j, 0], CS[j, 1], F)
+
+
+@njit(**INLINE)
+def _base(base, F):
+    """Frame 0: ``base``'s top three rows."""
     for r in range(3):
         for c in range(4):
             F[0, r, c] = base[r, c]
-    for j in range(n):
-        rev = T[j, REV] != 0.0
-        th = T[j, TH] + q[j] if rev else T[j, TH]
-        d = T[j, D] if rev else T[j, D] + q[j]
-        c, s = cos_sin(th)
-        ca, sa, a = T[j, CA], T[j, SA], T[j, A]
-        for k in range(3):
-            X, Y, Z, P = F[j, k, 0], F[j, k, 1], F[j, k, 2], F[j, k, 3]
-            if modified:  # twist about x, slide a along x, turn about the new z, slide d along it
-                y, z = ca * Y + sa * Z, ca * Z - sa * Y
-                P += a * X
-                x, y = c * X + s * y, c * y - s * X
-                P += d * z
-            else:  # turn about z, slide d along z and a along the new x, twist about it
-                x, y = c * X + s * Y, c * Y - s * X
-                P += d * Z + a * x
-                y, z = ca * y + sa * Z, ca * Z - sa * y
-            F[j + 1, k, 0], F[j + 1, k, 1], F[j + 1, k, 2], F[j + 1, k, 3] = x, y, z, P
+
+
+@njit(**INLINE)
+def _next_frame(T, modified, q, j, c, s, F):
+    """Frame j + 1 from frame j into F, with c, s the cosine and sine of θ_j at q."""
+    rev = T[j, REV] != 0.0
+    d = T[j, D] if rev else T[j, D] + q[j]
+    ca, sa, a = T[j, CA], T[j, SA], T[j, A]
+    for k in range(3):
+        X, Y, Z, P = F[j, k, 0], F[j, k, 1], F[j, k, 2], F[j, k, 3]
+        if modified:  # twist about x, slide a along x, turn about the new z, slide d along it
+            y, z = ca * Y + sa * Z, ca * Z - sa * Y
+            P += a * X
+            x, y = c * X + s * y, c * y - s * X
+            P += d * z
+        else:  # turn about z, slide d along z and a along the new x, twist about it
+            x, y = c * X + s * Y, c * Y - s * X
+            P += d * Z + a * x
+            y, z = ca * y + sa * Z, ca * Z - sa * y
+        F[j + 1, k, 0], F[j + 1, k, 1], F[j + 1, k, 2], F[j + 1, k, 3] = x, y, z, P
 
 
 @njit(**JIT)

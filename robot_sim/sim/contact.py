@@ -266,7 +266,7 @@ class ContactModel:
 
     def _begin_work(self, C: tuple) -> tuple:
         """contact_begin's work arrays for the contact tuple C (room for its current out and fixed)."""
-        return self._work[:4] + (np.empty_like(C[-1]), np.empty_like(C[-2]))
+        return self._work[:4] + (np.empty_like(C[-1]), np.empty_like(C[-2]), self._work[6])
 
     def _stage(self, q: FloatArray, qd: FloatArray, C: tuple) -> FloatArray:
         tau = np.empty(self.robot.n_dofs)

@@ -61,6 +61,12 @@ POINTS = 3
 HOLD = 1e-6
 #: Round-off guard [m] of the held distances against the margin.
 HOLD_TOL = 1e-12
+#: Options of the contact kernels called at every step: :data:`JIT`'s without numba's
+#: reference counting of arrays (its ``_nrt`` flag off).  Such a kernel allocates nothing
+#: and returns no array; counted, each array it is passed and each view it takes would
+#: cost two calls of the runtime at every call (more than its arithmetic, for the
+#: contact points of a UR5 at rest).
+UNCOUNTED = dict(JIT, _nrt=False)
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
 #: start of a step are the active ones: only they can touch during the step.
 MIN_MARGIN = 2e-3
@@ -190,7 +196,7 @@ def to_body(F, k, x, out):
         out[c] = F[k, 0, c] * r0 + F[k, 1, c] * r1 + F[k, 2, c] * r2
 
 
-@njit(**JIT)
+@njit(**UNCOUNTED)
 def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, slot):
     """At a step's start (friction on), the anchors of contact point ``slot`` of active
     pair p, of depth −d > 0 (exact witness points a, b and normal nrm; 3-tuples): a point
@@ -261,10 +267,11 @@ def contact_work(dh, C):
     """The work arrays of :func:`contact_begin`, :func:`contact_stage` and
     :func:`near_slack` for the model table ``dh`` and the contact tuple ``C``: link frames,
     world records (obstacle rows filled), world bounding centres (obstacle rows filled),
-    a record, and room for ``out`` and ``fixed`` as they were before the last refix."""
+    a record, room for ``out`` and ``fixed`` as they were before the last refix, and the
+    contact torque at the step's start (n,)."""
     recs0, bc = C[3], C[5]
     return (np.empty((dh.shape[0] + 1, 3, 4)), recs0.copy(), bc.copy(), np.empty(recs0.shape[1]), np.empty_like(C[19]),
-            np.empty_like(C[18]))
+            np.empty_like(C[18]), np.empty(dh.shape[0]))
 
 
 @njit(**INLINE)
@@ -304,41 +311,42 @@ def _held_point(F, out, p, s):
 
 
 @njit(**INLINE)
-def _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since):
+def _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since, tau):
     """:func:`contact_begin` keeping the frames it fixed last (the arm has moved at most
     ``since`` <= HOLD [m] since, and no capsule end left out then can come within
-    ``threshold``): each point's distance and witness points in its held frame into
-    ``out``, and with ``update`` the anchors moved and released as from exact ones.
-    False (nothing written but slot 0's held distances) when a pair's distance is within
-    2 ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
+    ``threshold``): with ``update`` the anchors moved and released as from exact ones,
+    then each point's distance, witness points and force in its held frame into ``out``
+    and the contact torque at the start into tau (:func:`contact_stage`).  False
+    (nothing written but slot 0's held distances) when a pair's distance is within 2
+    ``since`` (+ round-off) of ``threshold``: its held and exact distances, each within
     ``since`` of their common value at the fix, could fall on either side, and the
     pair's staying active must be decided on the exact one."""
     for p in range(out.shape[0]):
         d = _held_point(F, out, p, 0)[0]
         if abs(d - threshold) <= 2.0 * since + HOLD_TOL:
             return False
-    for p in range(out.shape[0]):
+    for p in range(out.shape[0] if update else 0):
         touches = gains[p, K_N] > 0.0
         for s in range(POINTS):
             if out[p, s, O_ON] == 0.0:
                 continue
             d, a, b, n, ka, kb = _held_point(F, out, p, s)
-            if update:
-                if mu > 0.0 and touches and d < 0.0:
-                    _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
-                if not (d < 0.0 and touches):
-                    anchored[p, s] = False
-                _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p],
-                              anchors[p, s], anchored[p, s])
+            if mu > 0.0 and touches and d < 0.0:
+                _move_anchors(F, ka, kb, d, a, b, n, qd, axis_frame, revolute, gains, mu, anchors, anchored, p, s)
+            if not (d < 0.0 and touches):
+                anchored[p, s] = False
+            _stage_record(out[p, s], ka, kb, out[p, s, O_RADIUS_A], out[p, s, O_RADIUS_B], gains[p], anchors[p, s],
+                          anchored[p, s])
+    contact_stage(F, qd, axis_frame, revolute, mu, out, tau)
     return True
 
 
-@njit(**INLINE)
-def _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+@njit(**UNCOUNTED)
+def contact_hold(q, qd, dh, modified, C, update, posed, threshold, F, tau):
     """:func:`contact_begin`'s held case: True (and its work done, through
-    :func:`_held_begin`) when the contact tuple ``C``'s frames fixed last may be held at
-    (q, qd) (the frames F then at q; already when ``posed``), else False (the anchors and
-    the frames held untouched)."""
+    :func:`_held_begin`, the start's contact torque into tau) when the contact tuple
+    ``C``'s frames fixed last may be held at (q, qd) (the frames F (n + 1, 3, 4) then at
+    q; already when ``posed``), else False (the anchors and the frames held untouched)."""
     axis_frame, revolute, arms = C[9], C[10], C[12]
     gains, mu, anchors, anchored, fixed, out = C[14:]
     n = q.shape[0]
@@ -349,10 +357,10 @@ def _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
         return False
     if not posed:
         frames(dh, modified, C[0], q, F)
-    return _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since)
+    return _held_begin(F, qd, axis_frame, revolute, gains, mu, anchors, anchored, out, update, threshold, since, tau)
 
 
-@njit(**JIT)
+@njit(**UNCOUNTED)
 def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     """Fix the contact frames of a step's start at (q, qd) for the active pairs ``rows`` of
     the contact tuple ``C``: per pair and contact point, into its ``out`` (A, POINTS, OUT),
@@ -362,11 +370,12 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     and O_ON 0.0 elsewhere.  ``dh``, ``modified``: the model table and its convention;
     ``threshold`` [m]: the step's margin (:func:`margin`); ``work``: :func:`contact_work`,
     already posed at q when ``posed`` (by :func:`near_slack`).  :func:`contact_stage` then
-    gives the force of every point at any state of the step.  True when the frames were
-    fixed anew (``out`` and ``fixed`` as they were before are then in ``work[4]``,
-    ``work[5]``).
+    gives the force of every point at any state of the step; the contact torque at the
+    start (q, qd), :func:`contact_stage`'s there, goes into ``work[6]``.  True when the
+    frames were fixed anew (``out`` and ``fixed`` as they were before are then in
+    ``work[4]``, ``work[5]``).
 
-    The frames fixed last are held instead (:func:`_held_begin`, no narrow phase) while
+    The frames fixed last are held instead (:func:`contact_hold`, no narrow phase) while
     the arm has moved at most :data:`HOLD` since (``fixed`` (n + 2,): q then, the least
     distance bound of the capsule ends left out then, and 1.0 where the lever arms
     ``arms`` hold at every q; -inf: fix anew) and no end left out can come within
@@ -394,10 +403,14 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
     F, recs, end = work[0], work[1], work[3]
     n = q.shape[0]
     moving = update and mu > 0.0
-    if _hold_frames(q, qd, dh, modified, C, update, posed, threshold, F):
+    if contact_hold(q, qd, dh, modified, C, update, posed, threshold, F, work[6]):
         return False
-    work[4][:] = out  # what a caller that takes the step back restores
-    work[5][:] = fixed
+    saved = work[4]  # what a caller that takes the step back restores
+    for p in range(out.shape[0]):
+        for e in range(POINTS):
+            for c in range(OUT):
+                saved[p, e, c] = out[p, e, c]
+    _copy(fixed, work[5])
     if not posed:
         _pose_active(q, dh, modified, C, work)
     reach = math.inf
@@ -422,7 +435,7 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
             if apart:
                 reach = min(reach, bound)
             else:
-                end[:] = recs[i]
+                _copy(recs[i], end)
                 for c in range(3):
                     end[L.POS + c] = ends[far][c]
                 result = pair_distance(L.SPHERE, end, kinds[j], recs[j], verts, math.inf)
@@ -448,20 +461,21 @@ def contact_begin(q, qd, dh, modified, C, update, posed, threshold, work):
                 anchored[p, e] = False
             if out[p, e, O_ON] == 1.0:
                 _stage_record(out[p, e], ka, kb, ra, rb, gains[p], anchors[p, e], anchored[p, e])
-    fixed[:n] = q
+    _copy(q, fixed[:n])
     fixed[n] = reach
+    contact_stage(F, qd, axis_frame, revolute, mu, out, work[6])
     return True
 
 
-@njit(**INLINE)
-def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F, posed, tau):
+@njit(**UNCOUNTED)
+def contact_stage(F, qd, axis_frame, revolute, mu, out, tau):
     """The joint torque tau (n,) at (q, qd) of the contact points that take part in the
     step (O_ON, fixed by :func:`contact_begin` at its start, which also wrote what is
     read here into ``out``), and per point into ``out`` its distance, first witness
-    point, force and anchor offset.  ``dh``, ``modified``, ``world0``: the model table,
-    its convention and frame 0 in the world; ``axis_frame``, ``revolute``, ``mu`` as in
-    the contact tuple; ``F`` (n + 1, 3, 4): the link frames, already at q when
-    ``posed``.
+    point, force and anchor offset.  ``F`` (n + 1, 3, 4): the link frames at q;
+    ``axis_frame``, ``revolute``, ``mu`` as in the contact tuple.  Compiled once and
+    called by every kernel that needs the contact torque (a call costs less than
+    compiling it into each).
 
     The contact frame is held over the step: each point keeps the normal n of the step's
     start, and the core points under its witness points move with their bodies (a
@@ -479,10 +493,7 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
     along n (ḋ the separation rate).  With friction (mu > 0) the tangential force is
     −k_T u − c_T v_t, capped at mu · f_n, where u is the part across n of the offset
     between the point's two anchors (zero where not set) and v_t the slip velocity.  The
-    force on b acts at b, its opposite at a.  Inlined where it is called: it reads no
-    array but these (a compiled call's array arguments cost time)."""
-    if not posed:
-        frames(dh, modified, world0, q, F)
+    force on b acts at b, its opposite at a."""
     for j in range(tau.shape[0]):
         tau[j] = 0.0
     for p in range(out.shape[0]):
@@ -500,8 +511,10 @@ def contact_stage(q, qd, dh, modified, world0, axis_frame, revolute, mu, out, F,
 @njit(**JIT)
 def contact_torque(q, qd, dh, modified, C, tau, work):
     """:func:`contact_stage` at (q, qd) for the contact tuple ``C`` and its
-    :func:`contact_work`: the joint torque of the step's contact points into tau."""
-    contact_stage(q, qd, dh, modified, C[0], C[9], C[10], C[15], C[19], work[0], False, tau)
+    :func:`contact_work` (``dh``, ``modified``: the model table and its convention): the
+    joint torque of the step's contact points into tau."""
+    frames(dh, modified, C[0], q, work[0])
+    contact_stage(work[0], qd, C[9], C[10], C[15], C[19], tau)
 
 
 @njit(**INLINE)
@@ -568,6 +581,13 @@ def moved(arms, q, q0):
     for j in range(q.shape[0]):
         bound += arms[j] * abs(q[j] - q0[j])
     return 2.0 * bound
+
+
+@njit(**INLINE)
+def _copy(x, y):
+    """The vector x into y (no temporary: for :data:`UNCOUNTED` kernels)."""
+    for c in range(x.shape[0]):
+        y[c] = x[c]
 
 
 @njit(**INLINE)

@@ -22,7 +22,9 @@ from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
 from robot_sim.kernels.jit import INLINE, JIT, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
-from robot_sim.sim.contact_kernels import O_D, contact_begin, contact_stage, contact_work, margin, moved, near_slack
+from robot_sim.kernels.chain import frames_cs
+from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_stage, contact_work, margin, moved,
+                                           near_slack)
 
 
 @njit(**INLINE)
@@ -56,21 +58,27 @@ def step_work(n):
             np.empty(n), np.empty(n), np.empty(n), np.empty(n))
 
 
-@njit(**JIT)
+@njit(**UNCOUNTED)
 def _accel(P, modified, q, v, tau, g0, held, any_held, acc, react, O, CS, F, NM, zero, bias, M, fext, total, extra,
-           world0, axis_frame, revolute, mu, out, Fc, posed):
-    """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque at (q, v) of
-    the contact points of the step (``contact_stage``, inlined here: the step's contact
-    frames, gains and anchors in ``out``; ``world0``, ``axis_frame``, ``revolute``, ``mu``
-    of the contact tuple; the link frames Fc, already at q when ``posed``); the ``held``
+           world0, axis_frame, revolute, mu, out, Fc, staged):
+    """q̈ at (q, v) into ``acc`` under the effort tau plus the contact torque ``extra`` at
+    (q, v) of the contact points of the step: given when ``staged`` (the step's start,
+    from ``contact_begin``), else computed into it (``contact_stage``: the step's contact
+    frames, gains and anchors in ``out``; ``world0``, ``axis_frame``, ``revolute``,
+    ``mu`` of the contact tuple; Fc room for the link frames, posed from the dynamics'
+    cosines and sines of the joint angles, which ``fd_one`` then takes); the ``held``
     joints locked when ``any_held`` (their reaction into ``react``); the rest:
     :func:`step_work`'s arrays.  Compiled on its own, not inlined into the step: the
     step's machine code stays as small and as fast as without contact.  Only the arrays
-    used are passed: a call's arguments cost time."""
-    contact_stage(q, v, P, modified, world0, axis_frame, revolute, mu, out, Fc, posed, extra)
+    used are passed, and their references are not counted (``UNCOUNTED``): a call's
+    arguments cost time."""
+    if not staged:
+        geometry(P, modified, q, O, CS)
+        frames_cs(P, modified, world0, q, CS, Fc)
+        contact_stage(Fc, v, axis_frame, revolute, mu, out, extra)
     for j in range(tau.shape[0]):
         total[j] = tau[j] + extra[j]
-    fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM)
+    fd_one(P, modified, q, v, total, g0, fext, False, held, any_held, acc, react, zero, bias, M, O, CS, F, NM, not staged)
 
 
 @njit(**INLINE)
@@ -111,7 +119,7 @@ def step_one(P, modified, rk4, h, q, v, tau, a_start, use_start, g0, held, use_h
             at_q, at_v = (q, v) if stage == 0 else (qs, vs)
             if contact is None:
                 fd_one(P, modified, at_q, at_v, tau, g0, fext, False, held, any_held, out, react, zero, bias, M, O, CS, F,
-                       NM)
+                       NM, False)
             else:
                 _accel(P, modified, at_q, at_v, tau, g0, held, any_held, out, react, O, CS, F, NM, zero, bias, M, fext,
                        work[15], work[16], contact[0], contact[9], contact[10], contact[15], contact[19], cwork[0],
@@ -324,7 +332,8 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                 if mu > 0.0:
                     kept[:] = anchors
                     kept_anchored[:] = anchored
-                # the contact frames of the step fixed and the anchors moved (near_slack's pose is at q)
+                # the contact frames of the step fixed and the anchors moved (near_slack's pose is at q),
+                # the contact torque at the start into cwork[6]
                 refixed = contact_begin(q, qd, P, modified, contact, True, posed, threshold, cwork)
                 if not posed:  # the active pairs still within the margin (their distances at q just computed)
                     for p in range(rows.shape[0]):
@@ -332,7 +341,7 @@ def run_steps(P, rk4, h, n_steps, law, kp, kd, q_des, qd_des, qdd_des, elim, vli
                             _take_back(contact, cwork, kept, kept_anchored, refixed)
                             return k
                 _accel(P, modified, q, qd, t, g0, held, False, a_start, react, work[0], work[1], work[2], work[3],
-                       work[4], work[5], work[6], work[7], work[15], work[16], contact[0], contact[9], contact[10], mu,
+                       work[4], work[5], work[6], work[7], work[15], cwork[6], contact[0], contact[9], contact[10], mu,
                        contact[19], cwork[0], True)
                 status = step_one(P, modified, rk4, h, q, qd, t, a_start, True, g0, held, False, False, q1, qd1, qdd1,
                                   react, at, work, contact, cwork)

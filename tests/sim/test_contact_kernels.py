@@ -4,16 +4,20 @@ check while the arm has not moved that far) against every pair's exact distance,
 remembered distance of a capsule's end sphere (which spares its narrow-phase call)
 against a fresh evaluation, on the UR5 resting on the box; and the contact frames held
 over a step against the exact distances: the same energy at the start, second-order
-differences over the step, none for the UR5 on the box's face; and frames held over
-steps while the arm has not moved HOLD."""
+differences over the step, none for the UR5 on the box's face; frames held over steps
+while the arm has not moved HOLD; the step's start giving the torque its first stage
+takes; and the stages' link frames from the forward dynamics' trigonometry."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from contact_helpers import panda_in_self_contact, ur5_over_box
+from kin_helpers import robot
 from robot_sim.collision import CollisionChecker
 from robot_sim.collision.batch import pair_results
+from robot_sim.dynamics.compiled import geometry
+from robot_sim.kernels.chain import frames, frames_cs
 from robot_sim.sim import contact_kernels as K
 from robot_sim.sim.contact import ContactModel
 from robot_sim.sim.simulation import Simulation
@@ -193,3 +197,42 @@ def test_a_resting_arm_holds_its_contact_frames_until_it_has_moved_hold(resting)
         expected = _begin_and_stage(contact, fresh, q, qd, threshold, K.contact_work(dh, fresh))
         np.testing.assert_allclose(tau, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
         assert np.abs(tau).max() > 1.0
+
+
+def test_a_steps_start_gives_the_contact_torque_its_first_stage_takes(resting):
+    """contact_begin's torque at the start (work[6], which the compiled loop's first RK4
+    stage takes instead of computing it again) is contact_torque's there, bit for bit,
+    with the friction anchors it just moved: when it fixes the frames anew and when it
+    holds them."""
+    sim, contact = resting, resting.contact
+    dh, modified, n = contact.checker.scene.dh, sim.robot.is_modified, sim.robot.n_dofs
+    C = tuple(x.copy() if isinstance(x, np.ndarray) else x for x in contact.compiled())  # the fixture's stay
+    q, qd = sim.q.copy(), np.random.default_rng(5).uniform(-0.01, 0.01, n)  # slipping: the anchors slide
+    threshold = K.margin(C[12], qd, sim.dt)
+    work = K.contact_work(dh, C)
+    C[-2][n] = -np.inf
+    tau = np.empty(n)
+    for refixed in (True, False):
+        work[6][:] = np.nan
+        assert K.contact_begin(q, qd, dh, modified, C, True, False, threshold, work) == refixed
+        K.contact_torque(q, qd, dh, modified, C, tau, work)
+        np.testing.assert_array_equal(work[6], tau)
+        assert np.abs(tau).max() > 1.0 and C[17].any()
+
+
+@pytest.mark.parametrize("name,convention", [("ur5", None), ("ur5", "modified"), ("stanford", None),
+                                             ("stanford", "modified")])
+def test_the_stages_frames_from_the_dynamics_trigonometry_are_the_frames(name, convention):
+    """frames_cs from geometry's cos θ, sin θ (what a contact stage takes) equals frames
+    bit for bit, for standard and modified DH and a prismatic joint (the Stanford arm's)."""
+    rob = robot(name, convention)
+    scene, n = CollisionChecker(rob).scene, rob.n_dofs
+    rng = np.random.default_rng(6)
+    for _ in range(5):
+        q = rng.uniform(-3.0, 3.0, n)
+        expected, F = np.empty((n + 1, 3, 4)), np.full((n + 1, 3, 4), np.nan)
+        frames(scene.dh, rob.is_modified, scene.world0, q, expected)
+        O, CS = np.empty((n, 3)), np.empty((n, 2))
+        geometry(scene.dh, rob.is_modified, q, O, CS)
+        frames_cs(scene.dh, rob.is_modified, scene.world0, q, CS, F)
+        np.testing.assert_array_equal(F, expected)
