@@ -35,7 +35,7 @@ from robot_sim.collision.closest import any_perpendicular, dot, point_box
 from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
 from robot_sim.kernels.algebra import cholesky, cross, solve_factored
 from robot_sim.kernels.chain import frames
-from robot_sim.kernels.jit import INLINE, JIT, njit
+from robot_sim.kernels.jit import INLINE, JIT, UNCOUNTED, njit
 
 # Columns of ``gains`` (A, 4) per active pair.
 K_N, C_N, K_T, C_T = range(4)
@@ -61,12 +61,6 @@ POINTS = 3
 HOLD = 1e-6
 #: Round-off guard [m] of the held distances against the margin.
 HOLD_TOL = 1e-12
-#: Options of the contact kernels called at every step: :data:`JIT`'s without numba's
-#: reference counting of arrays (its ``_nrt`` flag off).  Such a kernel allocates nothing
-#: and returns no array; counted, each array it is passed and each view it takes would
-#: cost two calls of the runtime at every call (more than its arithmetic, for the
-#: contact points of a UR5 at rest).
-UNCOUNTED = dict(JIT, _nrt=False)
 #: Pairs closer than this [m] (or than twice the step's motion bound, if larger) at the
 #: start of a step are the active ones: only they can touch during the step.
 MIN_MARGIN = 2e-3

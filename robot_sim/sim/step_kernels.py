@@ -19,11 +19,11 @@ import numpy as np
 
 from robot_sim.dynamics.compiled import all_finite, ct_one, fd_one, geometry, rnea_one
 from robot_sim.kernels.algebra import euler_combine, rk4_combine, rk4_stage
-from robot_sim.kernels.jit import INLINE, JIT, njit
+from robot_sim.kernels.jit import INLINE, JIT, UNCOUNTED, njit
 from robot_sim.kernels.model import MOD, QHI, QLO
 from robot_sim.kernels.status import AT_STOP, BAD_ACCEL, BAD_EFFORT, BAD_STATE, CROSSED, OK, ON_LIMIT
 from robot_sim.kernels.chain import frames_cs
-from robot_sim.sim.contact_kernels import (O_D, UNCOUNTED, contact_begin, contact_stage, contact_work, margin, moved,
+from robot_sim.sim.contact_kernels import (O_D, contact_begin, contact_stage, contact_work, margin, moved,
                                            near_slack)
 
 
