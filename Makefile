@@ -20,7 +20,7 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 # workers (a test file stays on one worker, its module fixtures built once; the longest
 # files first, in tests/conftest.py's order, not reordered by xdist; a third worker
 # on two cores fills the time the others wait for a kernel another process compiles or
-# for the browser: 235-237 s on a fresh clone against 238-264 s with two), the
+# for the browser: 235-244 s on a fresh clone against 238-264 s with two, before the cycle collector was tuned), the
 # real-window tests (Xvfb, mostly waiting for the window) behind, their report printed after
 # the headless one (only tests/qt is collected for them: every window test lives there,
 # tests/test_suite_layout.py checks).  A kernel is compiled by one process only (tests/compile_lock.py).
