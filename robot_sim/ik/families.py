@@ -29,7 +29,8 @@ import numba
 import numpy as np
 
 from robot_sim.ik.position import ELBOW_DOWN, WRIST_FLIPPED, arm_position, posture_bits, row, turn_cs
-from robot_sim.ik.subproblems import add, cross, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
+from robot_sim.ik.subproblems import add, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
+from robot_sim.kernels.algebra import cross
 from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT
 

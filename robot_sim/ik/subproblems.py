@@ -21,6 +21,7 @@ import math
 
 import numba
 
+from robot_sim.kernels.algebra import cross
 from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT
 
@@ -45,11 +46,6 @@ def scale(s: float, a: Vec) -> Vec:
 @numba.njit(inline="always", **JIT)
 def dot(a: Vec, b: Vec) -> float:
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@numba.njit(inline="always", **JIT)
-def cross(a: Vec, b: Vec) -> Vec:
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
 @numba.njit(inline="always", **JIT)
