@@ -3,8 +3,8 @@
 followed along a path of poses (for Cartesian lines and the pick task).
 
 Each returns None when the closed form does not answer the question asked (no closed
-form, a 7-joint arm, or a task the family does not solve), so the caller keeps its
-numerical path for those.
+form, a task the family does not solve, or, but for a path followed, a 7-joint arm), so
+the caller keeps its numerical path for those.
 """
 from __future__ import annotations
 
@@ -109,11 +109,21 @@ def _continue(Q: np.ndarray, count: np.ndarray, exact: np.ndarray, q_start: np.n
         prev[:] = out[i]
 
 
+def follows(robot: RobotParams) -> bool:
+    """True when the closed form can follow a path of poses: what :func:`answers` solves,
+    and the pose of a 7-joint arm with its free joint held where the path starts."""
+    family = solver(robot).family
+    held = family.free_joint is not None and family.closed_form and family.task == "pose"
+    return held or answers(robot, robot.n_dofs < 6)
+
+
 def follow_branch(robot: RobotParams, poses: ArrayLike, q_start: FloatArray) -> FloatArray | None:
     """(N, n) joint path through the poses (N, 4, 4) along the branch that continues the
     previous sample's (the first nearest ``q_start``), inside the limits; rows are NaN
-    from the first pose that branch cannot reach.  One batched IK for all poses."""
-    if not answers(robot, robot.n_dofs < 6):
+    from the first pose that branch cannot reach.  One batched IK for all poses.  A
+    7-joint arm's free joint stays at its value in ``q_start`` all along (the closed form
+    solves the other six)."""
+    if not follows(robot):
         return None
     sols = ik_solutions(robot, poses, q_start, within_limits=False)
     out = np.empty((sols.q.shape[0], robot.n_dofs))

@@ -124,7 +124,7 @@ def follow_poses(robot: RobotParams, t: ArrayLike, poses: ArrayLike, q0: ArrayLi
 
     Where the arm has a closed form the samples are solved in one batch
     (:func:`robot_sim.ik.nearest.follow_branch`), each on the branch that continues the
-    previous sample's; otherwise (and from a sample that branch cannot reach) each sample
+    previous sample's (a 7-joint arm's free joint held at its value in ``q0``); otherwise (and from a sample that branch cannot reach) each sample
     is solved by :func:`kinematics.solve_ik` from the previous sample's solution continued
     by the last joint step (the first from ``q0``) without random restarts, so the joint
     path stays on one branch.  q̇ and q̈ are finite differences of

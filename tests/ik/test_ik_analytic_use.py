@@ -9,6 +9,8 @@ from paths import ROOT
 import numpy as np
 import pytest
 
+import robot_sim as rs
+
 from ik_helpers import REACH_TOL, pose_errors
 from kin_helpers import robot
 from plan_helpers import free_at
@@ -96,6 +98,25 @@ def test_a_cartesian_line_follows_one_branch_without_a_jump() -> None:
     k = len(traj.t) // 2
     raw = ik_solutions(arm, traj.poses[k], traj.q[k - 1])
     np.testing.assert_allclose(traj.q[k], raw.q[0], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["panda", "iiwa14"])
+def test_a_seven_joint_line_holds_the_free_joint_on_one_closed_form_branch(name: str) -> None:
+    arm = robot(name)
+    free = rs.ik_family(arm).free_joint
+    q0 = arm.q_home + np.linspace(0.25, -0.2, arm.n_dofs)
+    pose0 = forward_kinematics(arm, q0)
+    pose1 = pose0.copy()
+    pose1[:3, 3] += [0.05, -0.04, 0.06]
+    traj = cartesian_line(arm, pose0, pose1, 1.0, q0)
+    assert (traj.q[:, free] == q0[free]).all()  # the closed form with the free joint held, at every sample
+    for k in (0, len(traj.t) // 2, len(traj.t) - 1):
+        pos, rot = pose_errors(arm, traj.q[k:k + 1], traj.poses[k])
+        assert pos[0] < REACH_TOL and rot[0] < REACH_TOL
+    assert np.abs(np.diff(np.vstack([q0, traj.q]), axis=0)).max() < 0.02  # one branch, no jump
+    k = len(traj.t) // 2
+    nearest = ik_solutions(arm, traj.poses[k], traj.q[k - 1], within_limits=False)
+    np.testing.assert_allclose(traj.q[k], nearest.q[0], atol=1e-12)
 
 
 @pytest.mark.parametrize("seed", [0, 1, pytest.param(2, marks=pytest.mark.slow), pytest.param(3, marks=pytest.mark.slow)])
