@@ -88,9 +88,12 @@ def test_target_commands_move_the_ghost_by_the_step(session: ViewerSession) -> N
     angle = math.radians(vs.TARGET_STEP_DEG)
     Rz = np.array([[math.cos(angle), -math.sin(angle), 0], [math.sin(angle), math.cos(angle), 0], [0, 0, 1]])
     np.testing.assert_allclose(session.target_tf.R(), Rz @ R_before, atol=1e-12)
-    for _ in range(200):  # 4 m up: out of reach
+    for _ in range(200):  # up to 4 m up: out of reach before
         message = run(session, "move_target", (2, 1))
+        if message is not None:
+            break
     assert message == UNREACHABLE
+    assert session.target_tf.t()[2] > before[2] + 0.1  # it went up, then past the reach
 
 
 def test_home_and_demo(session: ViewerSession) -> None:
