@@ -26,9 +26,12 @@ XVFB := xvfb-run -a -s "-screen 0 1280x1024x24"
 # tests/test_suite_layout.py checks).  A kernel is compiled by one process only (tests/compile_lock.py).
 # NumPy's OpenBLAS gets one thread in each: three processes share two cores, and idle
 # OpenBLAS threads spin (warm headless run: 159 s of CPU instead of 171 s).
+# Python writes its bytecode caches even where the environment says not to
+# (PYTHONDONTWRITEBYTECODE): four processes and the suite's subprocesses would otherwise
+# each compile the same sources and rewrite the same test modules' asserts again.
 # Fails when either fails.
 test: setup
-	@export OPENBLAS_NUM_THREADS=1; log=$$(mktemp); \
+	@export OPENBLAS_NUM_THREADS=1; unset PYTHONDONTWRITEBYTECODE; log=$$(mktemp); \
 	$(XVFB) $(PY) -m pytest -q -m window -p no:cacheprovider tests/qt >$$log 2>&1 & window=$$!; \
 	trap 'kill $$window 2>/dev/null; rm -f $$log' INT TERM; \
 	echo "headless tests (OSMesa, three workers); the window tests run meanwhile under xvfb-run"; \
