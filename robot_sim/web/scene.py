@@ -35,6 +35,23 @@ from robot_sim.web.parts import PartsLayer, instance_poses, rgb255
 AMBIENT_LIGHT = 0.8
 
 
+def merged_labels(labels: list[tuple[NDArray[np.float64], str]],
+                  tol: float = gd.GHOST_TOLERANCE) -> list[tuple[NDArray[np.float64], str]]:
+    """Labels (anchor (3,) world [m], text) with those at one anchor (within ``tol``)
+    written as one, a line each, in their order: the browser places a label at its
+    anchor without moving it apart from others (two IK branches that differ only past
+    their middle joint, a wrist flip, are labelled at the same point)."""
+    merged: list[tuple[NDArray[np.float64], str]] = []
+    for anchor, text in labels:
+        for k, (at, written) in enumerate(merged):
+            if np.abs(at - anchor).max() <= tol:
+                merged[k] = (at, f"{written}\n{text}")
+                break
+        else:
+            merged.append((anchor, text))
+    return merged
+
+
 class WebScene:
     """The scene nodes of one viser server (``scene`` is its ``server.scene``) showing one
     session at a time; :meth:`sync` sends the session's current state."""
@@ -150,7 +167,8 @@ class WebScene:
             parts += [(p.mesh, gd.GHOST_COLOR, p.placements) for p in ghost]
             opacities += [np.where(m, gd.GHOST_COLOR[3], 0.0) for m in masks]
         self.ghost_layer.update(parts, opacities=opacities, wireframe=options.wireframe)
-        self._sync_labels("/ghost/labels", [(branch_label_point(kin), name) for kin, name in scene.branches])
+        self._sync_labels("/ghost/labels", merged_labels([(branch_label_point(kin), name)
+                                                          for kin, name in scene.branches]))
 
     def _sync_frames(self, kin: Any, options: Any) -> None:
         frames, names = frames_and_names(kin, options.show_frames, options.show_endeff_frame)

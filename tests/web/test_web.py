@@ -298,10 +298,24 @@ def test_the_panel_buttons_cycle_and_draw_the_ik_branches_as_keys_b_and_shift_b(
         assert panel.message == COMMANDS["toggle_all_branches"](twin, None)
         viewer.backend.refresh()
         labels = [h for h in viewer.backend.view._labels["/ghost/labels"] if h.visible]
-        assert sorted(h.text for h in labels) == sorted(name for _, name in session.scene().branches)
-        assert len(labels) == len(twin.branches.solutions) >= 2
+        names = [name for _, name in session.scene().branches]
+        assert sorted(line for h in labels for line in h.text.split("\n")) == sorted(names)
+        assert len(names) == len(twin.branches.solutions) >= 2
     finally:
         viewer.close()
+
+
+def test_labels_at_one_anchor_are_written_as_one() -> None:
+    """The browser does not move labels apart: a branch and its wrist flip, labelled at
+    the same elbow, become one label of two lines; labels elsewhere stay as they are."""
+    from robot_sim.web.scene import merged_labels
+
+    elbow, other = np.array([0.3, 0.1, 0.5]), np.array([0.3, 0.1, 0.6])
+    labels = [(elbow, "elbow up, wrist not flipped"), (other, "elbow down"), (elbow + 1e-9, "elbow up, wrist flipped")]
+    merged = merged_labels(labels)
+    assert [text for _, text in merged] == ["elbow up, wrist not flipped\nelbow up, wrist flipped", "elbow down"]
+    np.testing.assert_array_equal(merged[0][0], elbow)
+    np.testing.assert_array_equal(merged[1][0], other)
 
 
 def test_a_value_the_page_sent_survives_a_tick_before_its_handler_runs() -> None:
