@@ -129,16 +129,22 @@ def chord_angle(chord: float) -> float:
     return 2.0 * math.asin(min(1.0, 0.5 * chord))
 
 
+# Whole numbers of turns are rounded in floating point (np.rint, np.ceil, np.floor), not by
+# Python's round and math's ceil and floor, which give integers: the trip to an integer and
+# back is two conversions on the critical path of every joint of every branch.  The same
+# numbers result; ``+ 0.0`` makes a rounded −0 the +0 an integer would give.
+
+
 @numba.njit(inline="always", **JIT)
 def nearest_turn(x: float, target: float) -> float:
-    return x + TWO_PI * round((target - x) * PER_TURN)
+    return x + TWO_PI * (np.rint((target - x) * PER_TURN) + 0.0)
 
 
 @numba.njit(**JIT)
 def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     """(first turn of angle x at or above lo, how many turns lie in [lo, hi])."""
-    first = x + TWO_PI * math.ceil((lo - EDGE - x) * PER_TURN)
-    return first, max(0, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1)  # (no branch to mispredict)
+    first = x + TWO_PI * (np.ceil((lo - EDGE - x) * PER_TURN) + 0.0)
+    return first, int(max(0.0, np.floor((hi + EDGE - first) * PER_TURN) + 1.0))  # (no branch to mispredict)
 
 
 @numba.njit(inline="always", **JIT)
