@@ -9,7 +9,7 @@ worst case (a UR arm's ±2π joints give up to 2⁶ turns per branch):
    pose, the exact ones: those putting the tool within ``tol`` of T (metres, and radians
    as the Frobenius distance of the rotations over √2); if none is, every branch is kept
    as the least-squares answer.  Duplicates (equal modulo 2π) go, and each branch counts
-   its turns inside the limits.
+   its turns inside the limits; in the pipeline's pass 1 the branches with none go too.
 2. :func:`expand` writes every turn of every kept branch and sorts them by the distance
    to q0 (Euclidean, rad and m).
 
@@ -168,12 +168,15 @@ def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q:
 
 @numba.njit(inline="always", **JIT)
 def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int, pos: np.ndarray, rot: np.ndarray,
-           e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float) -> tuple[int, int]:
+           e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float,
+           live_only: bool) -> tuple[int, int]:
     """Pass 1 of pose i, in place: of its m raw branches raw[i, :m] (K, n) and
     code[i, :m], their errors against the pose in pos[e0 + k] and rot[e0 + k]
     (:func:`fk_lanes`; overwritten), the distinct ones kept (exact ones if any) move to
     the front, with exact[i, k].  A branch with a value that is not finite is never
-    kept.  Returns (how many are kept, how many solutions they expand to)."""
+    kept.  With ``live_only``, in the modes within the limits, only the kept branches
+    with a turn inside them stay (:func:`expand` writes nothing for the others, and
+    skips them then).  Returns (how many are kept, how many solutions they expand to)."""
     n = raw.shape[2]
     any_exact = False
     for k in range(m):
@@ -210,7 +213,7 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
         kept += 1
     if mode == RAW:  # one solution per branch
         return kept, kept
-    total = 0
+    total, live = 0, 0
     for k in range(kept):
         ways = 1
         for j in range(n):
@@ -220,7 +223,12 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
                 ways *= (lo[j] - EDGE <= x) & (x <= hi[j] + EDGE)  # (no branch on the value to mispredict)
         total += ways if mode == EVERY_TURN else min(ways, 1)
-    return kept, total
+        if live_only:  # branch k to row ``live``, which only a live branch then keeps
+            for j in range(n):
+                raw[i, live, j] = raw[i, k, j]
+            code[i, live], exact[i, live] = code[i, k], exact[i, k]
+            live += ways > 0
+    return (live if live_only else kept), total
 
 
 #: Up to this many solutions are sorted by rank, more by merging.

@@ -184,7 +184,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
         fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
         for i in range(i0, i1):
             count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,
-                                        mode, tol)
+                                        mode, tol, True)
             if mode == RAW:
                 sort_raw(raw, code, exact, i, count[i], q0, key, order, spare, rows)
 
