@@ -26,7 +26,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.kernels.jit import JIT
+from robot_sim.kernels.jit import JIT, UNCOUNTED
 
 TWO_PI = 2.0 * math.pi
 #: Turns per radian: angles are divided by 2π as a product (a division takes several times as long).
@@ -44,7 +44,7 @@ RAW, EVERY_TURN, NEAREST_TURN = 0, 1, 2
 LANES = 16
 
 
-@numba.njit(**JIT)
+@numba.njit(**UNCOUNTED)
 def fk_lanes(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
              q: np.ndarray, cs: np.ndarray, m: int, check_rot: bool, S: np.ndarray, pos: np.ndarray,
              rot: np.ndarray) -> None:
@@ -235,7 +235,7 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
 SHORT = 16
 
 
-@numba.njit(**JIT)
+@numba.njit(**UNCOUNTED)
 def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) -> None:
     """order[:m] = the indices of key[:m] ascending, equal keys in index order (the
     permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch.
