@@ -150,11 +150,8 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     lq, lcs = np.zeros((n, G * L)), np.zeros((2 * n, G * L))  # lanes never written stay finite
     pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
     S = np.empty(12 * LANES)
-    # check_within's scratch, in three arrays (an allocation costs more than its views)
-    alive, gints = np.empty(G * L, dtype=np.bool_), np.empty((2, G * L), dtype=np.int64)
-    gfloats = np.empty((3 * n + 2, G * L))
-    lanes, gpose, gq, gcs = gints[0], gints[1], gfloats[:n], gfloats[n:3 * n]
-    gpos, grot = gfloats[3 * n], gfloats[3 * n + 1]
+    alive, lanes, gpose = np.empty(G * L, dtype=np.bool_), np.empty(G * L, dtype=np.int64), np.empty_like(pose)
+    gq, gcs, gpos, grot = np.empty_like(lq), np.empty_like(lcs), np.empty(G * L), np.empty(G * L)  # check_within's
     branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
     key, order, spare, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty(L, dtype=np.int64), np.empty((L, n))
     q0s = np.empty(m)
