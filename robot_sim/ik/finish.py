@@ -9,7 +9,9 @@ worst case (a UR arm's ±2π joints give up to 2⁶ turns per branch):
    pose, the exact ones: those putting the tool within ``tol`` of T (metres, and radians
    as the Frobenius distance of the rotations over √2); if none is, every branch is kept
    as the least-squares answer.  Duplicates (equal modulo 2π) go, and each branch counts
-   its turns inside the limits; in the pipeline's pass 1 the branches with none go too.
+   its turns inside the limits; in the pipeline's pass 1 the branches with none go too,
+   and (:func:`check_within`) only the branches that may have one are checked, the
+   others only for a pose that none of those reaches.
 2. :func:`expand` writes every turn of every kept branch and sorts them by the distance
    to q0 (Euclidean, rad and m).
 
