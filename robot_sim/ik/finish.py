@@ -9,7 +9,9 @@ worst case (a UR arm's ±2π joints give up to 2⁶ turns per branch):
    pose, the exact ones: those putting the tool within ``tol`` of T (metres, and radians
    as the Frobenius distance of the rotations over √2); if none is, every branch is kept
    as the least-squares answer.  Duplicates (equal modulo 2π) go, and each branch counts
-   its turns inside the limits.
+   its turns inside the limits; in the pipeline's pass 1 the branches with none go too,
+   and (:func:`check_within`) only the branches that may have one are checked, the
+   others only for a pose that none of those reaches.
 2. :func:`expand` writes every turn of every kept branch and sorts them by the distance
    to q0 (Euclidean, rad and m).
 
@@ -26,7 +28,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.kernels.jit import JIT
+from robot_sim.kernels.jit import JIT, UNCOUNTED
 
 TWO_PI = 2.0 * math.pi
 #: Turns per radian: angles are divided by 2π as a product (a division takes several times as long).
@@ -44,7 +46,7 @@ RAW, EVERY_TURN, NEAREST_TURN = 0, 1, 2
 LANES = 16
 
 
-@numba.njit(**JIT)
+@numba.njit(**UNCOUNTED)
 def fk_lanes(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
              q: np.ndarray, cs: np.ndarray, m: int, check_rot: bool, S: np.ndarray, pos: np.ndarray,
              rot: np.ndarray) -> None:
@@ -129,16 +131,114 @@ def chord_angle(chord: float) -> float:
     return 2.0 * math.asin(min(1.0, 0.5 * chord))
 
 
+# Whole numbers of turns are rounded in floating point (np.rint, np.ceil, np.floor), not by
+# Python's round and math's ceil and floor, which give integers: the trip to an integer and
+# back is two conversions on the critical path of every joint of every branch.  The same
+# numbers result; ``+ 0.0`` makes a rounded −0 the +0 an integer would give.
+
+
 @numba.njit(inline="always", **JIT)
 def nearest_turn(x: float, target: float) -> float:
-    return x + TWO_PI * round((target - x) * PER_TURN)
+    return x + TWO_PI * (np.rint((target - x) * PER_TURN) + 0.0)
 
 
 @numba.njit(**JIT)
 def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     """(first turn of angle x at or above lo, how many turns lie in [lo, hi])."""
-    first = x + TWO_PI * math.ceil((lo - EDGE - x) * PER_TURN)
-    return first, max(0, int(math.floor((hi + EDGE - first) * PER_TURN)) + 1)  # (no branch to mispredict)
+    first = x + TWO_PI * (np.ceil((lo - EDGE - x) * PER_TURN) + 0.0)
+    return first, int(max(0.0, np.floor((hi + EDGE - first) * PER_TURN) + 1.0))  # (no branch to mispredict)
+
+
+#: Slack [rad, m] on the limits when pass 1 picks the branches worth checking
+#: (:func:`check_within`): more than :data:`SAME` + :data:`EDGE`, so that a branch left
+#: unchecked is never the duplicate of one with a turn inside the limits.
+SLACK = 1e-8
+
+
+@numba.njit(inline="always", **JIT)
+def live_lanes(q: np.ndarray, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, m: int, alive: np.ndarray,
+               lanes: np.ndarray) -> int:
+    """The lanes k < m whose joint values q[:, k] (n, L) have a turn inside the limits
+    widened by :data:`SLACK` (finite values only), listed in lanes[:count], with alive[k]
+    (m,) telling each; returns count.  Joint by joint over all lanes, as the lanes lie."""
+    n = q.shape[0]
+    for k in range(m):
+        alive[k] = True
+    for j in range(n):
+        if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
+            for k in range(m):
+                alive[k] &= turns(q[j, k], lo[j] - SLACK, hi[j] + SLACK)[1] > 0
+        elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
+            for k in range(m):
+                alive[k] &= (lo[j] - EDGE - SLACK <= q[j, k]) & (q[j, k] <= hi[j] + EDGE + SLACK)
+    count = 0
+    for k in range(m):  # (without a branch: lanes[count] is overwritten until a live lane keeps it)
+        lanes[count] = k
+        count += alive[k]
+    return count
+
+
+@numba.njit(**UNCOUNTED)
+def fk_some(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
+            q: np.ndarray, cs: np.ndarray, lanes: np.ndarray, m: int, check_rot: bool, S: np.ndarray,
+            pos: np.ndarray, rot: np.ndarray, gq: np.ndarray, gcs: np.ndarray, gpose: np.ndarray,
+            gpos: np.ndarray, grot: np.ndarray) -> None:
+    """:func:`fk_lanes` of the lanes lanes[:m] only, their errors into pos and rot at their
+    lanes: gathered side by side into gq, gcs, gpose (checked there into gpos, grot), so
+    that the vector loops run full.  A lane's errors do not depend on its neighbours, so
+    they are those :func:`fk_lanes` of every lane would give."""
+    for a in range(m):
+        k = lanes[a]
+        for j in range(q.shape[0]):
+            gq[j, a] = q[j, k]
+        for j in range(cs.shape[0]):
+            gcs[j, a] = cs[j, k]
+        gpose[a] = pose[k]
+    fk_lanes(H, P, rev, M, Ts, gpose, gq, gcs, m, check_rot, S, gpos, grot)
+    for a in range(m):
+        pos[lanes[a]], rot[lanes[a]] = gpos[a], grot[a]
+
+
+@numba.njit(inline="always", **JIT)
+def lane_exact(q: np.ndarray, pos: np.ndarray, rot: np.ndarray, k: int, tol: float) -> bool:
+    """Whether lane k reaches its pose, as :func:`screen` judges it: finite joint values
+    and both errors within ``tol``."""
+    finite = True
+    for j in range(q.shape[0]):
+        finite = finite and math.isfinite(q[j, k])
+    return finite and max(pos[k], rot[k]) <= tol
+
+
+@numba.njit(**UNCOUNTED)
+def check_within(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
+                 q: np.ndarray, cs: np.ndarray, branches: np.ndarray, poses: int, L: int, lo: np.ndarray,
+                 hi: np.ndarray, tol: float, check_rot: bool, S: np.ndarray, pos: np.ndarray, rot: np.ndarray,
+                 alive: np.ndarray, lanes: np.ndarray, gq: np.ndarray, gcs: np.ndarray, gpose: np.ndarray,
+                 gpos: np.ndarray, grot: np.ndarray) -> None:
+    """The errors pos, rot of the lanes :func:`screen` needs when only turns inside the
+    limits are asked, for ``poses`` poses of L lanes each (pose p's branches[p] branches
+    from lane p·L): by :func:`fk_some`, first of the lanes with a turn inside the limits
+    (:func:`live_lanes`); the others get infinite errors, unless no checked lane of their
+    pose reaches it.  Only then does :func:`screen` need them: whether any branch is exact
+    decides which are kept, and a branch out of the limits writes no solution, nor (by
+    :data:`SLACK`) is it the duplicate of one that does.  So :func:`screen` keeps the same
+    branches as with every lane checked, for about half the checks (PUMA 560)."""
+    m = (poses - 1) * L + branches[poses - 1]
+    for k in range(m):
+        pos[k], rot[k] = math.inf, math.inf
+    live = live_lanes(q, rev, lo, hi, m, alive, lanes)
+    fk_some(H, P, rev, M, Ts, pose, q, cs, lanes, live, check_rot, S, pos, rot, gq, gcs, gpose, gpos, grot)
+    rest = 0
+    for p in range(poses):
+        reached = False
+        for k in range(p * L, p * L + branches[p]):
+            reached = reached or (alive[k] and lane_exact(q, pos, rot, k, tol))
+        if not reached:
+            for k in range(p * L, p * L + branches[p]):
+                if not alive[k]:
+                    lanes[rest] = k
+                    rest += 1
+    fk_some(H, P, rev, M, Ts, pose, q, cs, lanes, rest, check_rot, S, pos, rot, gq, gcs, gpose, gpos, grot)
 
 
 @numba.njit(inline="always", **JIT)
@@ -162,12 +262,15 @@ def to_lane(raw: np.ndarray, i: int, k: int, rev: np.ndarray, q0: np.ndarray, q:
 
 @numba.njit(inline="always", **JIT)
 def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int, pos: np.ndarray, rot: np.ndarray,
-           e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float) -> tuple[int, int]:
+           e0: int, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, mode: int, tol: float,
+           live_only: bool) -> tuple[int, int]:
     """Pass 1 of pose i, in place: of its m raw branches raw[i, :m] (K, n) and
     code[i, :m], their errors against the pose in pos[e0 + k] and rot[e0 + k]
     (:func:`fk_lanes`; overwritten), the distinct ones kept (exact ones if any) move to
     the front, with exact[i, k].  A branch with a value that is not finite is never
-    kept.  Returns (how many are kept, how many solutions they expand to)."""
+    kept.  With ``live_only``, in the modes within the limits, only the kept branches
+    with a turn inside them stay (:func:`expand` writes nothing for the others, and
+    skips them then).  Returns (how many are kept, how many solutions they expand to)."""
     n = raw.shape[2]
     any_exact = False
     for k in range(m):
@@ -204,7 +307,7 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
         kept += 1
     if mode == RAW:  # one solution per branch
         return kept, kept
-    total = 0
+    total, live = 0, 0
     for k in range(kept):
         ways = 1
         for j in range(n):
@@ -214,14 +317,19 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
             elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
                 ways *= (lo[j] - EDGE <= x) & (x <= hi[j] + EDGE)  # (no branch on the value to mispredict)
         total += ways if mode == EVERY_TURN else min(ways, 1)
-    return kept, total
+        if live_only:  # branch k to row ``live``, which only a live branch then keeps
+            for j in range(n):
+                raw[i, live, j] = raw[i, k, j]
+            code[i, live], exact[i, live] = code[i, k], exact[i, k]
+            live += ways > 0
+    return (live if live_only else kept), total
 
 
 #: Up to this many solutions are sorted by rank, more by merging.
 SHORT = 16
 
 
-@numba.njit(**JIT)
+@numba.njit(**UNCOUNTED)
 def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) -> None:
     """order[:m] = the indices of key[:m] ascending, equal keys in index order (the
     permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch.

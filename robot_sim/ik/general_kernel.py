@@ -317,7 +317,7 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
             to_lane(raw, i, k, rev, q0, lq, lcs, k)
             pose[k] = i
         fk_lanes(Hs, Ps, rev, Ms, Ts, pose, lq, lcs, got, True, S, pos, rot)
-        count[i], total[i] = screen(raw, code, exact, i, got, pos, rot, 0, rev, lo, hi, mode, tol)
+        count[i], total[i] = screen(raw, code, exact, i, got, pos, rot, 0, rev, lo, hi, mode, tol, False)
         for k in range(count[i]):
             code[i, k] = k
     width = 0

@@ -2,6 +2,15 @@
 free value, the branches mapped onto the whole chain, then :func:`robot_sim.ik.finish.screen`
 and :func:`robot_sim.ik.finish.expand`.  The robot's data travel packed in two arrays
 (:func:`pack`), so one call from Python costs a handful of argument conversions.
+
+Two passes (:mod:`robot_sim.ik.finish` says why): :func:`pass1` solves, checks and
+screens each pose, and counts its solutions; :func:`pass2` writes them into an output as
+wide as the batch's widest pose.  Raw branches need no pass 2 when some pose keeps all
+of its branches (:func:`raw_is_answer`).  Pass 2 was not folded into pass 1 for the
+arms whose width has a small bound (PUMA 560 within the limits: 8 branches × 2 turns of
+joint 6): written 16 wide, the answer must be cut to its width afterwards (12 on 10⁵
+random poses), by a copy or as a strided view; even with a view the fold measured
+within 1 % of the two passes' CPU.
 """
 from __future__ import annotations
 
@@ -15,7 +24,7 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
-from robot_sim.ik.finish import LANES, RAW, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
+from robot_sim.ik.finish import LANES, RAW, check_within, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.atan2 import atan2_row
 from robot_sim.kernels.jit import JIT
@@ -29,6 +38,11 @@ RIGID_TOL = 1e-6
 MAX_VALUES = 50_000_000
 #: :func:`run`'s answer for a q0 holding NaN or infinite values (in place of a pose index).
 BAD_Q0 = -2
+#: Branches (at least) that :func:`pass1` takes a block at a time through atan2 and the
+#: check: four times :data:`~robot_sim.ik.finish.LANES`, so that the branches kept for
+#: the check within the limits (about 60 % on PUMA 560) still fill the vector loops
+#: (measured: 3 % less CPU than one LANES on a PUMA batch, 2 % on UR5 raw).
+BLOCK = 4 * LANES
 _HEAD = 11  # integers before the joint kinds in the header
 _FHEAD = 2  # floats before the chain in each row: the free value and the tolerance
 
@@ -113,8 +127,10 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     (the angles the kernels give by cosine and sine taken by
     :func:`robot_sim.kernels.atan2.atan2_row`, every lane of a block at once),
     checked by :func:`robot_sim.ik.finish.fk_lanes` a block of poses at a time (at least
-    :data:`~robot_sim.ik.finish.LANES` branches together), then
-    :func:`robot_sim.ik.finish.screen`: count[i] branches kept, total[i] solutions.  For
+    :data:`BLOCK` branches together; within the limits only those that may have a turn
+    inside them, :func:`robot_sim.ik.finish.check_within`), then
+    :func:`robot_sim.ik.finish.screen`: count[i] branches kept (within the limits, those
+    with a turn inside them), total[i] solutions.  For
     :data:`~robot_sim.ik.finish.RAW` the kept branches are sorted and padded as pass 2
     would write them (:func:`robot_sim.ik.finish.sort_raw`), so that a batch as wide as
     K·V needs no pass 2 (:func:`raw_is_answer`)."""
@@ -125,7 +141,7 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     keep = gi[_HEAD + m:_HEAD + 2 * m]
     K, V = BRANCH_COUNTS[kind], gf.shape[0]
     L = K * V  # lanes per pose
-    G = max(1, LANES // L)  # poses per block
+    G = max(1, min(BLOCK // L, stop - start))  # poses per block (no more than asked: scratch costs)
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
     sub = np.empty((K, m))
@@ -134,6 +150,8 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     lq, lcs = np.zeros((n, G * L)), np.zeros((2 * n, G * L))  # lanes never written stay finite
     pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
     S = np.empty(12 * LANES)
+    alive, lanes, gpose = np.empty(G * L, dtype=np.bool_), np.empty(G * L, dtype=np.int64), np.empty_like(pose)
+    gq, gcs, gpos, grot = np.empty_like(lq), np.empty_like(lcs), np.empty(G * L), np.empty(G * L)  # check_within's
     branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
     key, order, spare, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty(L, dtype=np.int64), np.empty((L, n))
     q0s = np.empty(m)
@@ -181,10 +199,14 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
         for i in range(i0, i1):
             for at in range(branches[i - i0]):
                 to_lane(raw, i, at, revf, q0, lq, lcs, (i - i0) * L + at)
-        fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
+        if mode == RAW:
+            fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
+        else:
+            check_within(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, branches, i1 - i0, L, lo, hi, tol, check_rot, S,
+                         pos, rot, alive, lanes, gq, gcs, gpose, gpos, grot)
         for i in range(i0, i1):
             count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,
-                                        mode, tol)
+                                        mode, tol, True)
             if mode == RAW:
                 sort_raw(raw, code, exact, i, count[i], q0, key, order, spare, rows)
 

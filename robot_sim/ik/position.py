@@ -29,7 +29,7 @@ import numba
 import numpy as np
 
 from robot_sim.ik.subproblems import add, dot, norm, perp, rot_cs, scale, sp1_cs, sp2, sp3, sp4, sub
-from robot_sim.kernels.jit import JIT
+from robot_sim.kernels.jit import JIT, UNCOUNTED
 
 ONE_TWO_MEET, ONE_TWO_MEET_SLIDE, TWO_THREE_PARALLEL, ONE_TWO_PARALLEL, TWO_THREE_MEET = range(5)
 #: Branch bits of an arm posture.
@@ -63,7 +63,7 @@ def posture_bits(H: np.ndarray, P: np.ndarray, f0: tuple, c1: float, s1: float, 
     return bits | (ELBOW_DOWN if dot(v, h0) < 0.0 else 0)
 
 
-@numba.njit(**JIT)
+@numba.njit(**UNCOUNTED)
 def arm_position(case: int, H: np.ndarray, P: np.ndarray, o: tuple, w: tuple, pw: tuple,
                  q0: np.ndarray, out: np.ndarray, cs: np.ndarray) -> int:
     """Every (q_0, q_1, q_2) putting w at pw: cos q_j, sin q_j in cs[k, 2j], cs[k, 2j + 1]
