@@ -325,19 +325,28 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
     return (live if live_only else kept), total
 
 
-#: Up to this many solutions are sorted by rank, more by merging.
+#: Up to this many solutions are sorted by rank, more by their keys' bytes.
 SHORT = 16
+#: Counters of :func:`stable_order`'s radix sort, one per value of a byte; ``spare`` holds
+#: them after its first m entries.
+RADIX = 256
 
 
 @numba.njit(**UNCOUNTED)
 def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) -> None:
     """order[:m] = the indices of key[:m] ascending, equal keys in index order (the
-    permutation of a stable argsort), without allocating; ``spare`` (m,) is scratch.
-    Keys are never NaN (distances of finite joint values).
+    permutation of a stable argsort), without allocating; ``spare`` (m + :data:`RADIX`,
+    int64) is scratch.  Keys are never NaN and never negative (distances of finite joint
+    values; no -0.0: a sum of squares from 0.0).
 
     Up to :data:`SHORT` keys each goes straight to its rank, the count of keys before it
     (smaller, or equal at a lower index): m² comparisons without a branch, which cost
-    less than the mispredicted branches of an insertion sort."""
+    less than the mispredicted branches of an insertion sort.  More keys are sorted by the
+    bytes of their bit patterns, least significant first (for floats ≥ 0 the patterns
+    read as unsigned integers order as the values do): each pass counts and scatters,
+    stably, and compares no two keys (a merge sort's comparisons mispredict half the time:
+    420 keys took 23 µs that way, 3× this); a pass whose byte is alike in every key is
+    skipped."""
     if m <= SHORT:
         for a in range(m):
             x, rank = key[a], 0
@@ -345,25 +354,28 @@ def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) 
                 rank += (key[b] < x) | ((key[b] == x) & (b < a))
             order[rank] = a
         return
+    bits = key[:m].view(np.uint64)
+    count = spare[m:m + RADIX]
     for a in range(m):
         order[a] = a
     src, dst = order, spare
     in_order = True  # whether src is ``order``
-    width = 1
-    while width < m:
-        for start in range(0, m, 2 * width):
-            mid, stop = min(start + width, m), min(start + 2 * width, m)
-            a, b = start, mid
-            for k in range(start, stop):
-                if b < stop and (a >= mid or key[src[b]] < key[src[a]]):
-                    dst[k] = src[b]
-                    b += 1
-                else:
-                    dst[k] = src[a]
-                    a += 1
+    for shift in range(0, 64, 8):
+        count[:] = 0
+        for a in range(m):
+            count[(bits[a] >> shift) & 0xFF] += 1
+        if count[(bits[0] >> shift) & 0xFF] == m:
+            continue  # one byte value in every key: the order stays
+        total = 0
+        for d in range(RADIX):
+            total, count[d] = total + count[d], total
+        for a in range(m):
+            s = src[a]
+            d = (bits[s] >> shift) & 0xFF
+            dst[count[d]] = s
+            count[d] += 1
         src, dst = dst, src
         in_order = not in_order
-        width *= 2
     if not in_order:
         for a in range(m):
             order[a] = src[a]
@@ -374,7 +386,7 @@ def sort_raw(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept:
              key: np.ndarray, order: np.ndarray, spare: np.ndarray, rows: np.ndarray) -> None:
     """Pose i's ``kept`` branches in place nearest q0 first (Euclidean, rad and m; equal
     distances in branch order), the rows after them padded (NaN, code -1, not exact): what
-    :func:`expand` would write for :data:`RAW`.  key, order, spare (K,) and rows (K, n)
+    :func:`expand` would write for :data:`RAW`.  key, order (K,), spare (K + RADIX) and rows (K, n)
     are scratch."""
     K, n = raw.shape[1], raw.shape[2]
     for k in range(kept):
@@ -409,7 +421,7 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
     """Pass 2 of pose i: every turn of each of its ``kept`` branches raw[i, :kept] (with
     code[i], exact[i]) into out[i] (W, n), nearest q0 first, with out_code[i] and
     out_exact[i]; returns how many.  The rest is scratch: work (W, n), dist, source,
-    order, spare (W,); digit, ways, first (n,).  (Indexed, not sliced: a view of an array
+    order (W,), spare (W + RADIX); digit, ways, first (n,).  (Indexed, not sliced: a view of an array
     costs two atomic reference counts.)"""
     n = raw.shape[2]
     within = mode != RAW

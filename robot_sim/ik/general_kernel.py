@@ -36,7 +36,7 @@ import numba
 import numpy as np
 
 from robot_sim.ik.dense import apply_qt, determinant, householder, null_vector
-from robot_sim.ik.finish import LANES, expand, fk_lanes, nearest_turn, screen, to_lane
+from robot_sim.ik.finish import LANES, RADIX, expand, fk_lanes, nearest_turn, screen, to_lane
 from robot_sim.ik.polish import polish
 from robot_sim.ik.realroots import real_roots
 from robot_sim.kernels.jit import INLINE, JIT
@@ -332,8 +332,8 @@ def solve_general(Ts: np.ndarray, Te: np.ndarray, inv_size: float, C: np.ndarray
     out_exact = np.zeros((N, width), dtype=np.bool_)
     out_count = np.zeros(N, dtype=np.int64)
     work, dist = np.empty((width, 6)), np.empty(width)
-    source, order, spare = (np.empty(width, dtype=np.int64), np.empty(width, dtype=np.int64),
-                            np.empty(width, dtype=np.int64))
+    source, order = np.empty(width, dtype=np.int64), np.empty(width, dtype=np.int64)
+    spare = np.empty(width + RADIX, dtype=np.int64)
     digit, ways, first = np.empty(6, dtype=np.int64), np.empty(6, dtype=np.int64), np.empty(6)
     for i in range(N):
         out_count[i] = expand(raw, code, exact, i, count[i], q0, lo, hi, rev, mode, out, out_code, out_exact,

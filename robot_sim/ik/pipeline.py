@@ -24,7 +24,7 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
-from robot_sim.ik.finish import LANES, RAW, check_within, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
+from robot_sim.ik.finish import LANES, RADIX, RAW, check_within, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.atan2 import atan2_row
 from robot_sim.kernels.jit import JIT
@@ -153,7 +153,8 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     alive, lanes, gpose = np.empty(G * L, dtype=np.bool_), np.empty(G * L, dtype=np.int64), np.empty_like(pose)
     gq, gcs, gpos, grot = np.empty_like(lq), np.empty_like(lcs), np.empty(G * L), np.empty(G * L)  # check_within's
     branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
-    key, order, spare, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty(L, dtype=np.int64), np.empty((L, n))
+    key, order, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty((L, n))
+    spare = np.empty(L + RADIX, dtype=np.int64)
     q0s = np.empty(m)
     for j in range(m):
         q0s[j] = q0[keep[j]]
@@ -220,7 +221,8 @@ def pass2(gf: np.ndarray, gi: np.ndarray, q0: np.ndarray, mode: int, start: int,
     _, _, _, lo, hi, revf = _whole(gf, gi)
     W, n = out.shape[1], out.shape[2]
     work, dist = np.empty((W, n)), np.empty(W)
-    source, order, spare = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
+    source, order = np.empty(W, dtype=np.int64), np.empty(W, dtype=np.int64)
+    spare = np.empty(W + RADIX, dtype=np.int64)
     digit, ways, first = np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64), np.empty(n)
     for i in range(start, stop):
         k = expand(raw, code, exact, i, count[i], q0, lo, hi, revf, mode, out, out_code, out_exact,

@@ -9,7 +9,7 @@ import pytest
 from ik_helpers import REACH_TOL, check_complete, pose_errors
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, robot, sweep
 from robot_sim.ik.family import ik_family
-from robot_sim.ik.finish import stable_order
+from robot_sim.ik.finish import RADIX, stable_order
 from robot_sim.ik.solutions import ik_solutions
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
@@ -146,12 +146,19 @@ def test_a_batch_equals_single_poses_bit_for_bit() -> None:
         assert np.isnan(batch.q[i, k:]).all() and (batch.branch[i, k:] == "").all()
 
 
-@pytest.mark.parametrize("m", [0, 1, 2, 7, 16, 17, 64, 420])
-def test_the_solutions_sort_as_a_stable_argsort(m: int) -> None:
-    key = np.random.default_rng(m).integers(0, max(m // 3, 1), m).astype(float)  # many ties
-    order, spare = np.full(m + 3, -1), np.full(m + 3, -1)
+@pytest.mark.parametrize("m", [0, 1, 2, 7, 16, 17, 64, 420, 5000])
+@pytest.mark.parametrize("keys", ["ties", "spread"])
+def test_the_solutions_sort_as_a_stable_argsort(m: int, keys: str) -> None:
+    rng = np.random.default_rng(m)
+    if keys == "ties":  # small whole numbers, zero among them: many equal keys
+        key = rng.integers(0, max(m // 3, 1), m).astype(float)
+    else:  # distances over many magnitudes, some equal, some subnormal
+        key = rng.uniform(0.0, 40.0, m) * 10.0 ** rng.integers(-320, 3, m)
+        key[::7] = key[:1].sum()
+    key = np.concatenate([key, [-1.0, -1.0, -1.0]])  # beyond m: never read
+    order, spare = np.full(m + 3, -1), np.full(m + RADIX + 3, -1)
     stable_order(key, m, order, spare)
-    np.testing.assert_array_equal(order[:m], np.argsort(key, kind="stable"))
+    np.testing.assert_array_equal(order[:m], np.argsort(key[:m], kind="stable"))
     assert (order[m:] == -1).all()
 
 
