@@ -149,6 +149,16 @@ def turns(x: float, lo: float, hi: float) -> tuple[float, int]:
     return first, int(max(0.0, np.floor((hi + EDGE - first) * PER_TURN) + 1.0))  # (no branch to mispredict)
 
 
+@numba.njit(inline="always", **JIT)
+def turns_inside(x: float, revolute: bool, lo: float, hi: float, slack: float) -> tuple[float, int]:
+    """The one rule for a joint value x inside its limits [lo, hi] widened by ``slack``
+    (and :data:`EDGE`): (first turn, how many turns) of :func:`turns` for a revolute joint
+    with both limits finite, else (x, whether x lies inside: 0 or 1)."""
+    if revolute and math.isfinite(lo) and math.isfinite(hi):
+        return turns(x, lo - slack, hi + slack)
+    return x, int((lo - EDGE - slack <= x) & (x <= hi + EDGE + slack))  # (no branch on the value to mispredict)
+
+
 #: Slack [rad, m] on the limits when pass 1 picks the branches worth checking
 #: (:func:`check_within`): more than :data:`SAME` + :data:`EDGE`, so that a branch left
 #: unchecked is never the duplicate of one with a turn inside the limits.
@@ -165,12 +175,8 @@ def live_lanes(q: np.ndarray, rev: np.ndarray, lo: np.ndarray, hi: np.ndarray, m
     for k in range(m):
         alive[k] = True
     for j in range(n):
-        if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-            for k in range(m):
-                alive[k] &= turns(q[j, k], lo[j] - SLACK, hi[j] + SLACK)[1] > 0
-        elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
-            for k in range(m):
-                alive[k] &= (lo[j] - EDGE - SLACK <= q[j, k]) & (q[j, k] <= hi[j] + EDGE + SLACK)
+        for k in range(m):
+            alive[k] &= turns_inside(q[j, k], rev[j], lo[j], hi[j], SLACK)[1] > 0
     count = 0
     for k in range(m):  # (without a branch: lanes[count] is overwritten until a live lane keeps it)
         lanes[count] = k
@@ -311,11 +317,7 @@ def screen(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, m: int,
     for k in range(kept):
         ways = 1
         for j in range(n):
-            x = raw[i, k, j]
-            if rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-                ways *= turns(x, lo[j], hi[j])[1]
-            elif not rev[j] or math.isfinite(lo[j]) or math.isfinite(hi[j]):
-                ways *= (lo[j] - EDGE <= x) & (x <= hi[j] + EDGE)  # (no branch on the value to mispredict)
+            ways *= turns_inside(raw[i, k, j], rev[j], lo[j], hi[j], 0.0)[1]
         total += ways if mode == EVERY_TURN else min(ways, 1)
         if live_only:  # branch k to row ``live``, which only a live branch then keeps
             for j in range(n):
@@ -424,17 +426,13 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
     order (W,), spare (W + RADIX); digit, ways, first (n,).  (Indexed, not sliced: a view of an array
     costs two atomic reference counts.)"""
     n = raw.shape[2]
-    within = mode != RAW
+    limited = mode != RAW
     m = 0
     for k in range(kept):
         combos = 1
         for j in range(n):
             x = raw[i, k, j]
-            f, w = x, 1
-            if within and rev[j] and math.isfinite(lo[j]) and math.isfinite(hi[j]):
-                f, w = turns(x, lo[j], hi[j])
-            elif within:
-                w = int((lo[j] - EDGE <= x) & (x <= hi[j] + EDGE))
+            f, w = turns_inside(x, rev[j], lo[j], hi[j], 0.0) if limited else (x, 1)
             first[j], ways[j], digit[j] = f, w, 0
             if mode == NEAREST_TURN and w > 1:  # one turn: the nearest q0 (the lowest on a tie)
                 best = math.inf
@@ -448,7 +446,7 @@ def expand(raw: np.ndarray, code: np.ndarray, exact: np.ndarray, i: int, kept: i
             d2 = 0.0
             for j in range(n):
                 x = first[j] + TWO_PI * digit[j]
-                if within:
+                if limited:
                     x = min(max(x, lo[j]), hi[j])
                 work[m, j] = x
                 d2 += (x - q0[j]) ** 2
