@@ -24,6 +24,8 @@ from robot_sim.ik.classify import Plan
 from robot_sim.ik.families import PARALLEL_AXES, SPHERICAL_WRIST, THREE_PARALLEL
 from robot_sim.ik.families import parallel_axes, position_only, spherical_wrist, three_parallel
 from robot_sim.ik.family import BRANCHES
+from robot_sim.ik.block import CS_ROWS, MAX_JOINTS, OUT_ROWS, POSES, branch_lane, get, load_poses, scratch
+from robot_sim.ik.block import LANES as BLOCK_LANES
 from robot_sim.ik.finish import LANES, RADIX, RAW, check_within, chord_angle, expand, fk_lanes, screen, sort_raw, to_lane
 from robot_sim.ik.geometry import Screws
 from robot_sim.kernels.atan2 import atan2_row
@@ -39,10 +41,11 @@ MAX_VALUES = 50_000_000
 #: :func:`run`'s answer for a q0 holding NaN or infinite values (in place of a pose index).
 BAD_Q0 = -2
 #: Branches (at least) that :func:`pass1` takes a block at a time through atan2 and the
-#: check: four times :data:`~robot_sim.ik.finish.LANES`, so that the branches kept for
-#: the check within the limits (about 60 % on PUMA 560) still fill the vector loops
-#: (measured: 3 % less CPU than one LANES on a PUMA batch, 2 % on UR5 raw).
-BLOCK = 4 * LANES
+#: check: eight times :data:`~robot_sim.ik.finish.LANES`, so that a block of
+#: :data:`~robot_sim.ik.block.POSES` poses of 8 branches (the solvers' block) goes
+#: through at once, and the branches kept for the check within the limits (about 60 % on
+#: PUMA 560) still fill the vector loops.
+BLOCK = 8 * LANES
 _HEAD = 11  # integers before the joint kinds in the header
 _FHEAD = 2  # floats before the chain in each row: the free value and the tolerance
 
@@ -103,27 +106,13 @@ def _whole(gf: np.ndarray, gi: np.ndarray) -> tuple:
     return H, P, M, row[at:at + n], row[at + n:at + 2 * n], gi[_HEAD + 2 * m:_HEAD + 2 * m + n]
 
 
-@numba.njit(inline="always", **JIT)
-def _pose(Ts: np.ndarray, i: int, inverse: bool, out: np.ndarray) -> None:
-    """Ts[i] (4, 4), or its inverse, into out (copied: a view of Ts would cost two atomic
-    reference counts per pose)."""
-    if not inverse:
-        for a in range(4):
-            for b in range(4):
-                out[a, b] = Ts[i, a, b]
-        return
-    out[3, 0], out[3, 1], out[3, 2], out[3, 3] = 0.0, 0.0, 0.0, 1.0
-    for a in range(3):
-        for b in range(3):
-            out[a, b] = Ts[i, b, a]
-        out[a, 3] = -(Ts[i, 0, a] * Ts[i, 0, 3] + Ts[i, 1, a] * Ts[i, 1, 3] + Ts[i, 2, a] * Ts[i, 2, 3])
-
-
 @numba.njit(**JIT)
 def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: int, start: int, stop: int,
            raw: np.ndarray, code: np.ndarray, count: np.ndarray, exact: np.ndarray, total: np.ndarray) -> None:
-    """Poses start..stop-1: the family's kernel for each free value (row v of gf is
-    packed at its value), the branches mapped onto the whole chain into raw[i] (K·V, n)
+    """Poses start..stop-1, a block of :data:`~robot_sim.ik.block.POSES` at a time: the
+    family's kernel for each free value (row v of gf is packed at its value) on every pose
+    of the block at once (:mod:`robot_sim.ik.block`), the branches mapped onto the whole
+    chain into raw[i] (K·V, n)
     (the angles the kernels give by cosine and sine taken by
     :func:`robot_sim.kernels.atan2.atan2_row`, every lane of a block at once),
     checked by :func:`robot_sim.ik.finish.fk_lanes` a block of poses at a time (at least
@@ -141,12 +130,10 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     keep = gi[_HEAD + m:_HEAD + 2 * m]
     K, V = BRANCH_COUNTS[kind], gf.shape[0]
     L = K * V  # lanes per pose
-    G = max(1, min(BLOCK // L, stop - start))  # poses per block (no more than asked: scratch costs)
+    G = max(1, min(POSES, BLOCK // L, stop - start))  # poses per block (no more than asked: scratch costs)
     tol = gf[0, 1]
     Hf, Pf, Mf, lo, hi, revf = _whole(gf, gi)
-    sub = np.empty((K, m))
-    sub_cs = np.full((K, 2 * m), np.nan)  # every solver but parallel_axes writes the rows it returns
-    sub_code = np.zeros(K, dtype=np.int64)
+    W, C = scratch()  # the solvers' block (robot_sim.ik.block)
     lq, lcs = np.zeros((n, G * L)), np.zeros((2 * n, G * L))  # lanes never written stay finite
     pose, pos, rot = np.full(G * L, start), np.empty(G * L), np.empty(G * L)
     S = np.empty(12 * LANES)
@@ -155,45 +142,50 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
     key, order, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty((L, n))
     spare = np.empty(L + RADIX, dtype=np.int64)
-    q0s = np.empty(m)
+    q0s, D = np.empty(m), np.empty((m, 2))  # q0's values of the chain solved, their cosines and sines
     for j in range(m):
         q0s[j] = q0[keep[j]]
-    T = np.empty((4, 4))
+        D[j, 0], D[j, 1] = math.cos(q0s[j]), math.sin(q0s[j])
     row = gf[0]  # views made once: each view of an array costs two atomic reference counts
     Hs, Ps, Ms = _chain(row, _FHEAD, m)
     A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
     for i0 in range(start, stop, G):
         i1 = min(i0 + G, stop)
-        for i in range(i0, i1):
-            _pose(Ts, i, rev_chain, T)
-            got_all = 0
-            for v in range(V):
-                if V > 1:
-                    row = gf[v]
-                    Hs, Ps, Ms = _chain(row, _FHEAD, m)
-                    A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
-                if kind == SPHERICAL_WRIST:
-                    got = spherical_wrist(case, Hs, Ps, revs, A, T, q0s, sub, sub_code, sub_cs)
-                elif kind == THREE_PARALLEL:
-                    got = three_parallel(Hs, Ps, Ms, A, T, q0s, sub, sub_code, sub_cs)
-                elif kind == PARALLEL_AXES:
-                    got = parallel_axes(idx, Hs, Ps, A, T, q0s, sub, sub_code)
-                else:
-                    got = position_only(case, Hs, Ps, A, T, q0s, sub, sub_code, sub_cs)
+        B = i1 - i0
+        got_all = 0
+        load_poses(Ts, i0, B, rev_chain, W)
+        for v in range(V):
+            if V > 1:
+                row = gf[v]
+                Hs, Ps, Ms = _chain(row, _FHEAD, m)
+                A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
+            if kind == SPHERICAL_WRIST:
+                got = spherical_wrist(case, Hs, Ps, revs, A, B, D, W, C)
+            elif kind == THREE_PARALLEL:
+                got = three_parallel(Hs, Ps, Ms, A, B, q0s, D, W, C)
+            elif kind == PARALLEL_AXES:
+                got = parallel_axes(idx, Hs, Ps, A, B, q0s, m, W, C)
+            else:
+                got = position_only(case, Hs, Ps, A, B, D, W, C)
+            for i in range(i0, i1):
+                g = i - i0
                 for k in range(got):
                     at = got_all + k
-                    lane = (i - i0) * L + at
+                    lane = g * L + at
+                    plane, b = branch_lane(k, g)
+                    v, c = OUT_ROWS + plane * MAX_JOINTS, CS_ROWS + 2 * plane * MAX_JOINTS
                     for j in range(m):
-                        raw[i, at, keep[j]] = sub[k, j]
-                        lcs[2 * keep[j], lane] = sub_cs[k, 2 * j]
-                        lcs[2 * keep[j] + 1, lane] = sub_cs[k, 2 * j + 1]
+                        raw[i, at, keep[j]] = get(W, v + j, b)
+                        lcs[2 * keep[j], lane] = get(W, c + 2 * j, b)
+                        lcs[2 * keep[j] + 1, lane] = get(W, c + 2 * j + 1, b)
                     if free >= 0:
                         raw[i, at, free] = row[0]
                         lcs[2 * free, lane] = np.nan  # to_lane takes its cosine and sine from its value
-                    code[i, at] = sub_code[k]
+                    code[i, at] = C[plane * BLOCK_LANES + b]
                     pose[lane] = i
-                got_all += got
-            branches[i - i0] = got_all
+            got_all += got
+        for g in range(B):
+            branches[g] = got_all
         for j in range(n):  # the angles of the cosines and sines, all lanes at once
             if revf[j] and j != free and kind != PARALLEL_AXES:  # (these two give values, no cosines)
                 atan2_row(lcs, 2 * j + 1, lcs, 2 * j, lq, j, (i1 - i0) * L)
