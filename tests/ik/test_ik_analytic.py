@@ -9,7 +9,7 @@ import pytest
 from ik_helpers import REACH_TOL, check_complete, pose_errors
 from kin_helpers import CONVENTIONS, ROBOT_NAMES, robot, sweep
 from robot_sim.ik.family import ik_family
-from robot_sim.ik.finish import RADIX, stable_order
+from robot_sim.ik.finish import RADIX, SHORT, TIES, TOP_SHIFT, stable_order
 from robot_sim.ik.solutions import ik_solutions
 from robot_sim.kinematics import forward_kinematics, random_configurations
 from robot_sim.model.params import RobotParams
@@ -147,14 +147,25 @@ def test_a_batch_equals_single_poses_bit_for_bit() -> None:
 
 
 @pytest.mark.parametrize("m", [0, 1, 2, 7, 16, 17, 64, 420, 5000])
-@pytest.mark.parametrize("keys", ["ties", "spread"])
+@pytest.mark.parametrize("keys", ["ties", "spread", "distinct", "close", "crowded"])
 def test_the_solutions_sort_as_a_stable_argsort(m: int, keys: str) -> None:
     rng = np.random.default_rng(m)
     if keys == "ties":  # small whole numbers, zero among them: many equal keys
         key = rng.integers(0, max(m // 3, 1), m).astype(float)
-    else:  # distances over many magnitudes, some equal, some subnormal
+    elif keys == "spread":  # distances over many magnitudes, some equal, some subnormal
         key = rng.uniform(0.0, 40.0, m) * 10.0 ** rng.integers(-320, 3, m)
         key[::7] = key[:1].sum()
+    elif keys in ("distinct", "close"):  # no two alike in their top bytes (counting alone), or five pairs
+        key = ((rng.choice(2 ** 16, m, replace=False).astype(np.uint64) + np.uint64(0x3FF000)) << np.uint64(40)
+               ).view(float)
+        if keys == "close":  # alike but in the lowest bits (counting, then insertion)
+            key[1:10:2] = key[0:10:2][:len(key[1:10:2])] * (1.0 + 2.0 ** -40)
+    else:  # "crowded": all alike in the top bytes (every byte counted)
+        key = 1.0 + rng.permutation(m) * 2.0 ** -50
+    if m > SHORT:  # the keys take the way they are named for
+        top = np.sort(key.view(np.uint64) >> np.uint64(TOP_SHIFT))
+        ties = int((top[1:] == top[:-1]).sum())
+        assert {"distinct": ties == 0, "close": 0 < ties <= TIES, "crowded": ties > TIES or m <= TIES + 1}.get(keys, True)
     key = np.concatenate([key, [-1.0, -1.0, -1.0]])  # beyond m: never read
     order, spare = np.full(m + 3, -1), np.full(m + RADIX + 3, -1)
     stable_order(key, m, order, spare)
