@@ -93,12 +93,15 @@ def bench_ik_analytic(table, median_iqr, ms, us) -> None:  # noqa: ANN001
             what = "every turn inside the limits" if within else "raw branches"
             table.add(f"analytic IK {name}, one pose from Python ({what}, {count:.1f} solutions)",
                       us(med), us(iqr), baseline, "—", f"≤ 10 µs: {verdict(med <= 10e-6)}")
-    for name, within in (("puma560", True), ("ur5", False)):
+    # every arm's raw branches, and within the limits where a batch of 10^5 fits in the output
+    # (UR5's ±2π joints give 512 solutions a pose: 3·10^8 joint values, over MAX_VALUES)
+    for name, within in (("puma560", True), ("kr6_r900", True), ("puma560", False), ("kr6_r900", False),
+                         ("ur5", False)):
         robot = load_robot(name)
         T = forward_kinematics(robot, random_configurations(robot, BATCH, rng))
-        ik_solutions(robot, T[:10], within_limits=within)
+        ik_solutions(robot, T, within_limits=within)  # compiled, and the process's first 10^8 bytes mapped
         walls, cpus, singles = [], [], []
-        for _ in range(3):  # alternated: the batch, then a share of its poses one at a time
+        for _ in range(5):  # alternated: the batch, then a share of its poses one at a time
             start, cpu = time.perf_counter(), time.process_time()
             ik_solutions(robot, T, within_limits=within)
             walls.append((time.perf_counter() - start) / BATCH)
