@@ -76,6 +76,19 @@ def put(W: np.ndarray, row: int, lane: int, x: float) -> None:
     W[row * LANES + lane] = x
 
 
+@numba.njit(inline="always", **JIT)
+def put6(W: np.ndarray, row: int, lane: int, x: tuple) -> None:
+    """Six values x into rows row..row+5 of a lane, written out: a loop over them here
+    would be a loop inside a solver's loop over poses, which the compiler then runs a
+    pose at a time (measured: 650 ns a PUMA 560 pose instead of 160 ns)."""
+    put(W, row, lane, x[0])
+    put(W, row + 1, lane, x[1])
+    put(W, row + 2, lane, x[2])
+    put(W, row + 3, lane, x[3])
+    put(W, row + 4, lane, x[4])
+    put(W, row + 5, lane, x[5])
+
+
 @numba.njit(**JIT)
 def get(W: np.ndarray, row: int, lane: int) -> float:
     return W[row * LANES + lane]

@@ -42,7 +42,7 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.ik.block import CS_ROWS, LANES, MAX_JOINTS, OUT_ROWS, POSES, pose_of, put
+from robot_sim.ik.block import CS_ROWS, LANES, MAX_JOINTS, OUT_ROWS, POSES, pose_of, put, put6
 from robot_sim.ik.position import (ELBOW_DOWN, WRIST_FLIPPED, apply, arm_axes, arm_of, arm_positions, free_cs,
                                    matrix_pose, posture_bits, rmul, row, rtmul, turn_cs)
 from robot_sim.ik.subproblems import Vec, add, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
@@ -82,29 +82,11 @@ def wrist_bit(axes: tuple, c5: float, s5: float) -> int:
 @numba.njit(inline="always", **JIT)
 def _branch(W: np.ndarray, C: np.ndarray, plane: int, lane: int, values: tuple, bits: int, cs12: tuple) -> None:
     """A branch of a 6-joint chain into its plane and lane of W and C: its values (NaN for
-    a turn), bits and the cosines and sines of its joints.  Written out: a loop over the
-    joints here is a loop inside the loop over poses, and the compiler then runs that one
-    a pose at a time (measured: 650 ns a PUMA 560 pose instead of 160 ns)."""
-    v, c = OUT_ROWS + plane * MAX_JOINTS, CS_ROWS + 2 * plane * MAX_JOINTS
-    put(W, v, lane, values[0])
-    put(W, v + 1, lane, values[1])
-    put(W, v + 2, lane, values[2])
-    put(W, v + 3, lane, values[3])
-    put(W, v + 4, lane, values[4])
-    put(W, v + 5, lane, values[5])
+    a turn), bits and the cosines and sines of its joints."""
+    put6(W, OUT_ROWS + plane * MAX_JOINTS, lane, values)
     C[plane * LANES + lane] = bits
-    put(W, c, lane, cs12[0])
-    put(W, c + 1, lane, cs12[1])
-    put(W, c + 2, lane, cs12[2])
-    put(W, c + 3, lane, cs12[3])
-    put(W, c + 4, lane, cs12[4])
-    put(W, c + 5, lane, cs12[5])
-    put(W, c + 6, lane, cs12[6])
-    put(W, c + 7, lane, cs12[7])
-    put(W, c + 8, lane, cs12[8])
-    put(W, c + 9, lane, cs12[9])
-    put(W, c + 10, lane, cs12[10])
-    put(W, c + 11, lane, cs12[11])
+    put6(W, CS_ROWS + 2 * plane * MAX_JOINTS, lane, cs12[:6])
+    put6(W, CS_ROWS + 2 * plane * MAX_JOINTS + 6, lane, cs12[6:])
 
 
 @numba.njit(inline="always", **JIT)

@@ -34,7 +34,7 @@ import numba
 import numpy as np
 
 from robot_sim.ik.subproblems import Vec, add, dot, norm, perp, rot_cs, scale, sp1_cs, sp2, sp3, sp4, sub
-from robot_sim.ik.block import ARM_ROWS, POSES, get, pose_of, put
+from robot_sim.ik.block import ARM_ROWS, POSES, get, pose_of, put, put6
 from robot_sim.kernels.jit import JIT, UNCOUNTED
 
 ONE_TWO_MEET, ONE_TWO_MEET_SLIDE, TWO_THREE_PARALLEL, ONE_TWO_PARALLEL, TWO_THREE_MEET = range(5)
@@ -112,15 +112,17 @@ def free_cs(D: np.ndarray, j: int, sign: float) -> tuple[float, float]:
 
 @numba.njit(inline="always", **JIT)
 def _put_arm(W: np.ndarray, lane: int, sol: tuple) -> None:
-    """An arm solution (:data:`~robot_sim.ik.block.ARM` floats) into its lane of W
-    (written out, as :func:`robot_sim.ik.families._branch` says why)."""
+    """An arm solution (:data:`~robot_sim.ik.block.ARM` floats) into its lane of W."""
     put(W, ARM_ROWS, lane, sol[0])
-    put(W, ARM_ROWS + 1, lane, sol[1])
-    put(W, ARM_ROWS + 2, lane, sol[2])
-    put(W, ARM_ROWS + 3, lane, sol[3])
-    put(W, ARM_ROWS + 4, lane, sol[4])
-    put(W, ARM_ROWS + 5, lane, sol[5])
-    put(W, ARM_ROWS + 6, lane, sol[6])
+    put6(W, ARM_ROWS + 1, lane, sol[1:])
+
+
+@numba.njit(inline="always", **JIT)
+def _target(W: np.ndarray, lane: int, tool_point: bool, wt: Vec) -> Vec:
+    """The point pw a lane's pose asks the arm to reach: the pose's origin with
+    ``tool_point``, else the pose applied to wt."""
+    T = pose_of(W, lane)
+    return (T[9], T[10], T[11]) if tool_point else apply(T, wt)
 
 
 @numba.njit(inline="always", **JIT)
@@ -154,8 +156,7 @@ def arm_positions(case: int, H: np.ndarray, P: np.ndarray, o: Vec, w: Vec, wt: V
             wo, w2 = sub(w, p2), sub(w, o)
             b, ww = dot(h2, w2), dot(w2, w2)
             for g in range(G):
-                T = pose_of(W, lane0 + g)
-                pw = (T[9], T[10], T[11]) if tool_point else apply(T, wt)
+                pw = _target(W, lane0 + g, tool_point, wt)
                 dist = norm(sub(pw, o))
                 (c3a, s3a), (c3b, s3b), _, _ = sp3(h2, wo, sub(p2, o), dist)
                 c3, s3 = (c3a, s3a) if half == 0 else (c3b, s3b)
@@ -169,8 +170,7 @@ def arm_positions(case: int, H: np.ndarray, P: np.ndarray, o: Vec, w: Vec, wt: V
                 _put_arm(W, lane0 + POSES + g, (t3, m1b[0], -m1b[1], q2b[0], q2b[1], c3, s3))
         elif case == TWO_THREE_PARALLEL:
             for g in range(G):
-                T = pose_of(W, lane0 + g)
-                pw = (T[9], T[10], T[11]) if tool_point else apply(T, wt)
+                pw = _target(W, lane0 + g, tool_point, wt)
                 t1a, t1b, _, _ = sp4(h1, h0, sub(pw, p0), dot(h1, sub(w, p0)))
                 c1, s1 = t1a if half == 0 else t1b
                 y = turn_cs(h0, p0, c1, s1, pw)
@@ -182,8 +182,7 @@ def arm_positions(case: int, H: np.ndarray, P: np.ndarray, o: Vec, w: Vec, wt: V
                 _put_arm(W, lane0 + POSES + g, (nan, c1, -s1, c2b, s2b, t3b[0], t3b[1]))
         elif case == ONE_TWO_PARALLEL:
             for g in range(G):
-                T = pose_of(W, lane0 + g)
-                pw = (T[9], T[10], T[11]) if tool_point else apply(T, wt)
+                pw = _target(W, lane0 + g, tool_point, wt)
                 t3a, t3b, _, _ = sp4(h0, h2, sub(w, p2), dot(h0, sub(pw, p2)))
                 c3, s3 = t3a if half == 0 else t3b
                 dist = norm(perp(h0, sub(pw, p0)))
@@ -196,8 +195,7 @@ def arm_positions(case: int, H: np.ndarray, P: np.ndarray, o: Vec, w: Vec, wt: V
         else:  # TWO_THREE_MEET
             x = sub(w, o)
             for g in range(G):
-                T = pose_of(W, lane0 + g)
-                pw = (T[9], T[10], T[11]) if tool_point else apply(T, wt)
+                pw = _target(W, lane0 + g, tool_point, wt)
                 t1a, t1b, _, _ = sp3(h0, sub(pw, p0), sub(p0, o), norm(x))
                 c1, s1 = t1a if half == 0 else t1b
                 y = sub(turn_cs(h0, p0, c1, s1, pw), o)
