@@ -108,7 +108,7 @@ def wrist(axes: tuple, w6: Vec, wx: Vec, x6: Vec, f3: tuple, f4: tuple, f5: tupl
 
 @numba.njit(**UNCOUNTED)
 def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A: np.ndarray, G: int, D: np.ndarray,
-                    W: np.ndarray, C: np.ndarray) -> int:
+                    W: np.ndarray, C: np.ndarray) -> None:
     """rev: nonzero for the revolute joints.  A: 0 wrist centre w, 1 M⁻¹w, 2 R_Mᵀh_5, 3 x6 ⟂ h_5, 4 R_Mᵀx6, 5 meeting point o
     of the arm axes, 6 the shoulder direction f0.  Arm solution j (lane j·POSES + g)
     gives branches 2j, 2j + 1 (its two wrists)."""
@@ -137,7 +137,6 @@ def spherical_wrist(case: int, H: np.ndarray, P: np.ndarray, rev: np.ndarray, A:
             values = (nan, nan, t3, nan, nan, nan)
             _branch(W, C, 0, lane, values, bits | wrist_bit(axes, a[2], a[3]), arm_cs + a)
             _branch(W, C, 1, lane, values, bits | wrist_bit(axes, b[2], b[3]), arm_cs + b)
-    return 8
 
 
 @numba.njit(inline="always", **JIT)
@@ -158,7 +157,7 @@ def _planar_branch(W: np.ndarray, C: np.ndarray, plane: int, lane: int, planar: 
 
 @numba.njit(**UNCOUNTED)
 def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, G: int, q0: np.ndarray,
-                   D: np.ndarray, W: np.ndarray, C: np.ndarray) -> int:
+                   D: np.ndarray, W: np.ndarray, C: np.ndarray) -> None:
     """A: 0 the meeting point o of axes 4 and 5, 1 M⁻¹o, 2 R_Mᵀh_5, 3 x1 ⟂ h_1, 4 f0.
     Branch 4a + 2b + c: the a-th root of q_0, the b-th of q_4, the c-th of q_2 (lane
     (2a + b)·POSES + g, plane c).  q0 (m,): q0's values of the chain's joints."""
@@ -198,12 +197,11 @@ def three_parallel(H: np.ndarray, P: np.ndarray, M: np.ndarray, A: np.ndarray, G
             wrist_cs = (c5, s5, c6, s6)
             _planar_branch(W, C, 0, lane, planar, t3a, axes0, f0, c1, s1, bits, wrist_cs)
             _planar_branch(W, C, 1, lane, planar, t3b, axes0, f0, c1, s1, bits, wrist_cs)
-    return 8
 
 
 @numba.njit(**UNCOUNTED)
 def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, G: int, q0: np.ndarray,
-                  m: int, W: np.ndarray, C: np.ndarray) -> int:
+                  m: int, W: np.ndarray, C: np.ndarray) -> None:
     """idx: the two arm joints a, b, the turning joint c and the slide s (−1 if none).
     A: 0 a point c on axis c (the tool point if none), 1 M⁻¹c, 2 x ⟂ h, 3 R_Mᵀx.  Angles
     by atan2 here, so a pose at a time (q0 (m,): the chain's values of q0, for free
@@ -244,12 +242,11 @@ def parallel_axes(idx: np.ndarray, H: np.ndarray, P: np.ndarray, A: np.ndarray, 
                 put(W, v + c, g, sc * (total - qa - sb * qb))
             upper = rot(ha, qa, sub(pb, pa))
             C[n * LANES + g] = ELBOW_DOWN if dot(h, cross(upper, sub(target, add(pa, upper)))) > 0.0 else 0
-    return 2
 
 
 @numba.njit(**UNCOUNTED)
 def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, G: int, D: np.ndarray, W: np.ndarray,
-                  C: np.ndarray) -> int:
+                  C: np.ndarray) -> None:
     """A: 0 the tool point at q = 0, 5 meeting point o, 6 f0 (the rows of spherical_wrist).
     Branch k is arm solution k (plane k mod 2, lane (k div 2)·POSES + g)."""
     arm_positions(case, H, P, row(A, 5), row(A, 0), row(A, 1), True, G, D, W)
@@ -273,4 +270,3 @@ def position_only(case: int, H: np.ndarray, P: np.ndarray, A: np.ndarray, G: int
             put(W, c + 3, at + g, s1)
             put(W, c + 4, at + g, c2)
             put(W, c + 5, at + g, s2)
-    return 4

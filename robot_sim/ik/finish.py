@@ -217,19 +217,18 @@ def lane_exact(q: np.ndarray, pos: np.ndarray, rot: np.ndarray, k: int, tol: flo
 
 @numba.njit(**UNCOUNTED)
 def check_within(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, Ts: np.ndarray, pose: np.ndarray,
-                 q: np.ndarray, cs: np.ndarray, branches: np.ndarray, poses: int, L: int, lo: np.ndarray,
+                 q: np.ndarray, cs: np.ndarray, poses: int, L: int, lo: np.ndarray,
                  hi: np.ndarray, tol: float, check_rot: bool, S: np.ndarray, pos: np.ndarray, rot: np.ndarray,
                  alive: np.ndarray, lanes: np.ndarray, gq: np.ndarray, gcs: np.ndarray, gpose: np.ndarray,
                  gpos: np.ndarray, grot: np.ndarray) -> None:
     """The errors pos, rot of the lanes :func:`screen` needs when only turns inside the
-    limits are asked, for ``poses`` poses of L lanes each (pose p's branches[p] branches
-    from lane p·L): by :func:`fk_some`, first of the lanes with a turn inside the limits
+    limits are asked, for ``poses`` poses of L branches each (pose p's from lane p·L): by :func:`fk_some`, first of the lanes with a turn inside the limits
     (:func:`live_lanes`); the others get infinite errors, unless no checked lane of their
     pose reaches it.  Only then does :func:`screen` need them: whether any branch is exact
     decides which are kept, and a branch out of the limits writes no solution, nor (by
     :data:`SLACK`) is it the duplicate of one that does.  So :func:`screen` keeps the same
     branches as with every lane checked, for about half the checks (PUMA 560)."""
-    m = (poses - 1) * L + branches[poses - 1]
+    m = poses * L
     for k in range(m):
         pos[k], rot[k] = math.inf, math.inf
     live = live_lanes(q, rev, lo, hi, m, alive, lanes)
@@ -237,10 +236,10 @@ def check_within(H: np.ndarray, P: np.ndarray, rev: np.ndarray, M: np.ndarray, T
     rest = 0
     for p in range(poses):
         reached = False
-        for k in range(p * L, p * L + branches[p]):
+        for k in range(p * L, (p + 1) * L):
             reached = reached or (alive[k] and lane_exact(q, pos, rot, k, tol))
         if not reached:
-            for k in range(p * L, p * L + branches[p]):
+            for k in range(p * L, (p + 1) * L):
                 if not alive[k]:
                     lanes[rest] = k
                     rest += 1
@@ -354,6 +353,25 @@ def _radix_pass(bits: np.ndarray, m: int, shift: int, src: np.ndarray, dst: np.n
     return True
 
 
+@numba.njit(inline="always", **JIT)
+def _count_sort(bits: np.ndarray, m: int, lowest: int, order: np.ndarray, spare: np.ndarray) -> None:
+    """order[:m] = the indices of bits[:m] sorted stably by their bits from ``lowest`` up,
+    a byte per counting pass (:func:`_radix_pass`), least significant first; ``spare``
+    (m + :data:`RADIX`) is scratch."""
+    count = spare[m:m + RADIX]
+    for a in range(m):
+        order[a] = a
+    src, dst = order, spare
+    in_order = True  # whether src is ``order``
+    for shift in range(lowest, 64, 8):
+        if _radix_pass(bits, m, shift, src, dst, count):
+            src, dst = dst, src
+            in_order = not in_order
+    if not in_order:
+        for a in range(m):
+            order[a] = src[a]
+
+
 #: Bits of a key that :func:`stable_order` sorts by counting (sign, exponent and 12 bits of
 #: the mantissa), and most pairs of neighbours alike in them that insertion then sorts.
 TOP_SHIFT, TIES = 40, 32
@@ -385,30 +403,13 @@ def stable_order(key: np.ndarray, m: int, order: np.ndarray, spare: np.ndarray) 
             order[rank] = a
         return
     bits = key[:m].view(np.uint64)
-    count = spare[m:m + RADIX]
-    for a in range(m):
-        order[a] = a
-    lowest = TOP_SHIFT
-    while True:
-        src, dst = order, spare
-        in_order = True  # whether src is ``order``
-        for shift in range(lowest, 64, 8):
-            if _radix_pass(bits, m, shift, src, dst, count):
-                src, dst = dst, src
-                in_order = not in_order
-        if not in_order:
-            for a in range(m):
-                order[a] = src[a]
-        if lowest == 0:
-            return
-        ties = 0
-        for a in range(1, m):
-            ties += (bits[order[a]] >> TOP_SHIFT) == (bits[order[a - 1]] >> TOP_SHIFT)
-        if ties <= TIES:
-            break
-        for a in range(m):  # too many: every byte, from the index order again
-            order[a] = a
-        lowest = 0
+    _count_sort(bits, m, TOP_SHIFT, order, spare)
+    ties = 0
+    for a in range(1, m):
+        ties += (bits[order[a]] >> TOP_SHIFT) == (bits[order[a - 1]] >> TOP_SHIFT)
+    if ties > TIES:  # too many: every byte
+        _count_sort(bits, m, 0, order, spare)
+        return
     if ties == 0:
         return
     for a in range(1, m):  # insertion, stable (only neighbours alike in the top bytes move)

@@ -139,7 +139,6 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     S = np.empty(12 * LANES)
     alive, lanes, gpose = np.empty(G * L, dtype=np.bool_), np.empty(G * L, dtype=np.int64), np.empty_like(pose)
     gq, gcs, gpos, grot = np.empty_like(lq), np.empty_like(lcs), np.empty(G * L), np.empty(G * L)  # check_within's
-    branches = np.zeros(G, dtype=np.int64)  # of each pose of the block
     key, order, rows = np.empty(L), np.empty(L, dtype=np.int64), np.empty((L, n))
     spare = np.empty(L + RADIX, dtype=np.int64)
     q0s, D = np.empty(m), np.empty((m, 2))  # q0's values of the chain solved, their cosines and sines
@@ -152,7 +151,6 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
     for i0 in range(start, stop, G):
         i1 = min(i0 + G, stop)
         B = i1 - i0
-        got_all = 0
         load_poses(Ts, i0, B, rev_chain, W)
         for v in range(V):
             if V > 1:
@@ -160,22 +158,22 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                 Hs, Ps, Ms = _chain(row, _FHEAD, m)
                 A = row[_FHEAD + 6 * m + 16:_FHEAD + 6 * m + 37].reshape((7, 3))
             if kind == SPHERICAL_WRIST:
-                got = spherical_wrist(case, Hs, Ps, revs, A, B, D, W, C)
+                spherical_wrist(case, Hs, Ps, revs, A, B, D, W, C)
             elif kind == THREE_PARALLEL:
-                got = three_parallel(Hs, Ps, Ms, A, B, q0s, D, W, C)
+                three_parallel(Hs, Ps, Ms, A, B, q0s, D, W, C)
             elif kind == PARALLEL_AXES:
-                got = parallel_axes(idx, Hs, Ps, A, B, q0s, m, W, C)
+                parallel_axes(idx, Hs, Ps, A, B, q0s, m, W, C)
             else:
-                got = position_only(case, Hs, Ps, A, B, D, W, C)
-            for i in range(i0, i1):
+                position_only(case, Hs, Ps, A, B, D, W, C)
+            for i in range(i0, i1):  # the K branches of every pose, for this free value
                 g = i - i0
-                for k in range(got):
-                    at = got_all + k
+                for k in range(K):
+                    at = v * K + k
                     lane = g * L + at
                     plane, b = branch_lane(k, g)
-                    v, c = OUT_ROWS + plane * MAX_JOINTS, CS_ROWS + 2 * plane * MAX_JOINTS
+                    values, c = OUT_ROWS + plane * MAX_JOINTS, CS_ROWS + 2 * plane * MAX_JOINTS
                     for j in range(m):
-                        raw[i, at, keep[j]] = get(W, v + j, b)
+                        raw[i, at, keep[j]] = get(W, values + j, b)
                         lcs[2 * keep[j], lane] = get(W, c + 2 * j, b)
                         lcs[2 * keep[j] + 1, lane] = get(W, c + 2 * j + 1, b)
                     if free >= 0:
@@ -183,23 +181,20 @@ def pass1(gf: np.ndarray, gi: np.ndarray, Ts: np.ndarray, q0: np.ndarray, mode: 
                         lcs[2 * free, lane] = np.nan  # to_lane takes its cosine and sine from its value
                     code[i, at] = C[plane * BLOCK_LANES + b]
                     pose[lane] = i
-            got_all += got
-        for g in range(B):
-            branches[g] = got_all
         for j in range(n):  # the angles of the cosines and sines, all lanes at once
             if revf[j] and j != free and kind != PARALLEL_AXES:  # (these two give values, no cosines)
                 atan2_row(lcs, 2 * j + 1, lcs, 2 * j, lq, j, (i1 - i0) * L)
         for i in range(i0, i1):
-            for at in range(branches[i - i0]):
+            for at in range(L):
                 to_lane(raw, i, at, revf, q0, lq, lcs, (i - i0) * L + at)
         if mode == RAW:
             fk_lanes(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, (i1 - i0) * L, check_rot, S, pos, rot)
         else:
-            check_within(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, branches, i1 - i0, L, lo, hi, tol, check_rot, S,
-                         pos, rot, alive, lanes, gq, gcs, gpose, gpos, grot)
+            check_within(Hf, Pf, revf, Mf, Ts, pose, lq, lcs, i1 - i0, L, lo, hi, tol, check_rot, S, pos, rot,
+                         alive, lanes, gq, gcs, gpose, gpos, grot)
         for i in range(i0, i1):
-            count[i], total[i] = screen(raw, code, exact, i, branches[i - i0], pos, rot, (i - i0) * L, revf, lo, hi,
-                                        mode, tol, True)
+            count[i], total[i] = screen(raw, code, exact, i, L, pos, rot, (i - i0) * L, revf, lo, hi, mode, tol,
+                                        True)
             if mode == RAW:
                 sort_raw(raw, code, exact, i, count[i], q0, key, order, spare, rows)
 

@@ -52,8 +52,8 @@ JIT = dict(cache=True, nogil=True, error_model="numpy")
 #: Options of small helpers, inlined into the kernels that call them.
 INLINE = dict(JIT, inline="always")
 #: Options of kernels called at every step whose arithmetic is smaller than numba's
-#: bookkeeping (the contact kernels; the IK families' solvers, called once per pose of a
-#: batch): :data:`JIT`'s without numba's reference counting of
+#: bookkeeping (the contact kernels; the IK families' solvers, called once per block of
+#: poses): :data:`JIT`'s without numba's reference counting of
 #: arrays (its ``_nrt`` flag off).  Such a kernel allocates nothing and returns no array;
 #: counted, each array it is passed and each view it takes would cost two calls of the
 #: runtime at every call (more than the arithmetic of the contact points of a UR5 at rest).

@@ -68,7 +68,7 @@ def test_checking_the_branches_inside_the_limits_keeps_what_checking_all_keeps()
         assert reached.tolist() == [True] * 5 + [False]
         pos, rot = np.empty(m), np.empty(m)
         alive, lanes = np.empty(m, dtype=np.bool_), np.empty(m, dtype=np.int64)
-        check_within(S.H, S.P, S.revolute, S.M, T, pose, q, cs, np.full(6, 8), 6, 8, arm.q_min, arm.q_max, tol,
+        check_within(S.H, S.P, S.revolute, S.M, T, pose, q, cs, 6, 8, arm.q_min, arm.q_max, tol,
                      True, np.empty(12 * LANES), pos, rot, alive, lanes, np.empty((n, m)), np.empty((2 * n, m)),
                      np.empty(m, dtype=np.int64), np.empty(m), np.empty(m))
         lo, hi = arm.q_min[:, None], arm.q_max[:, None]  # (every joint of PUMA 560 turns)
