@@ -13,42 +13,11 @@ from __future__ import annotations
 
 import math
 
-from robot_sim.kernels.algebra import cross
+from robot_sim.kernels.algebra import cross, dot, madd, norm, scale, sub
 from robot_sim.kernels.jit import JIT, njit
 
 #: Squared length below which a segment is a point (m²).
 DEGENERATE_SQ = 1e-30
-
-
-@njit(**JIT)
-def dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@njit(**JIT)
-def sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-@njit(**JIT)
-def add(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-@njit(**JIT)
-def madd(a, b, s):
-    """a + s b."""
-    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
-
-
-@njit(**JIT)
-def scale(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-@njit(**JIT)
-def norm(a):
-    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
 
 
 @njit(**JIT)

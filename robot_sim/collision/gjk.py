@@ -19,8 +19,8 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.kernels.jit import JIT, njit
-from robot_sim.collision.closest import add, any_perpendicular, dot, madd, norm, scale, sub
-from robot_sim.kernels.algebra import cross
+from robot_sim.collision.closest import any_perpendicular
+from robot_sim.kernels.algebra import add, cross, dot, madd, norm, scale, sub
 
 GJK_TOL = 1e-11  # m: distance bounds' gap at convergence
 GJK_MAX_ITER = 200

@@ -24,7 +24,8 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.kernels.jit import JIT, njit
-from robot_sim.collision.closest import (dot, inflate, madd, point_cylinder, scale, segment_box, segment_segment, sub)
+from robot_sim.collision.closest import inflate, point_cylinder, segment_box, segment_segment
+from robot_sim.kernels.algebra import dot, madd, scale, sub
 from robot_sim.collision.gjk import epa, gjk, support
 
 

@@ -45,8 +45,8 @@ import numpy as np
 from robot_sim.ik.block import CS_ROWS, LANES, MAX_JOINTS, OUT_ROWS, POSES, pose_of, put, put6
 from robot_sim.ik.position import (ELBOW_DOWN, WRIST_FLIPPED, apply, arm_axes, arm_of, arm_positions, free_cs,
                                    matrix_pose, posture_bits, rmul, row, rtmul, turn_cs)
-from robot_sim.ik.subproblems import Vec, add, dot, norm, perp, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4, sub
-from robot_sim.kernels.algebra import cross
+from robot_sim.ik.subproblems import Vec, rot, rot_cs, sp1, sp1_cs, sp2, sp3, sp4
+from robot_sim.kernels.algebra import add, cross, dot, norm, perp, sub
 from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT, UNCOUNTED
 

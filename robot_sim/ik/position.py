@@ -33,7 +33,8 @@ import math
 import numba
 import numpy as np
 
-from robot_sim.ik.subproblems import Vec, add, dot, norm, perp, rot_cs, scale, sp1_cs, sp2, sp3, sp4, sub
+from robot_sim.ik.subproblems import Vec, rot_cs, sp1_cs, sp2, sp3, sp4
+from robot_sim.kernels.algebra import add, dot, norm, perp, scale, sub
 from robot_sim.ik.block import ARM_ROWS, POSES, get, pose_of, put, put6
 from robot_sim.kernels.jit import JIT, UNCOUNTED
 
@@ -66,7 +67,7 @@ def posture_bits(arm: tuple, f0: Vec, c1: float, s1: float, y: Vec) -> int:
     v, line = rot_cs(h1, c1, s1, sub(p2, p1)), sub(y, p1)
     ll = dot(line, line)
     if ll > 0.0:
-        v = sub(v, scale(dot(v, line) / ll, line))
+        v = sub(v, scale(line, dot(v, line) / ll))
     return bits | (ELBOW_DOWN if dot(v, h0) < 0.0 else 0)
 
 
@@ -164,7 +165,7 @@ def arm_positions(case: int, H: np.ndarray, P: np.ndarray, o: Vec, w: Vec, wt: V
                 root = math.sqrt(disc) if disc > 0.0 else 0.0
                 t3 = (-b + root if half == 0 else -b - root) if slide else nan
                 c3, s3 = (1.0, 0.0) if slide else (c3, s3)  # a slide: (1, 0) as it does not turn
-                x = sub(add(w, scale(t3, h2)), o) if slide else sub(turn_cs(h2, p2, c3, s3, w), o)
+                x = sub(add(w, scale(h2, t3)), o) if slide else sub(turn_cs(h2, p2, c3, s3, w), o)
                 q2a, m1a, q2b, m1b, _ = sp2(h1, x, h0, sub(pw, o), f1, f0n, True)
                 _put_arm(W, lane0 + g, (t3, m1a[0], -m1a[1], q2a[0], q2a[1], c3, s3))
                 _put_arm(W, lane0 + POSES + g, (t3, m1b[0], -m1b[1], q2b[0], q2b[1], c3, s3))

@@ -28,42 +28,11 @@ import math
 
 import numba
 
-from robot_sim.kernels.algebra import cross
+from robot_sim.kernels.algebra import add, cross, dot, norm, perp, scale, sub
 from robot_sim.kernels.atan2 import atan2
 from robot_sim.kernels.jit import JIT
 
 Vec = tuple[float, float, float]
-
-
-@numba.njit(**JIT)
-def add(a: Vec, b: Vec) -> Vec:
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-@numba.njit(**JIT)
-def sub(a: Vec, b: Vec) -> Vec:
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-@numba.njit(**JIT)
-def scale(s: float, a: Vec) -> Vec:
-    return (s * a[0], s * a[1], s * a[2])
-
-
-@numba.njit(**JIT)
-def dot(a: Vec, b: Vec) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@numba.njit(**JIT)
-def norm(a: Vec) -> float:
-    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
-
-
-@numba.njit(**JIT)
-def perp(k: Vec, a: Vec) -> Vec:
-    """a without its component along the unit vector k."""
-    return sub(a, scale(dot(k, a), k))
 
 
 @numba.njit(**JIT)
@@ -152,18 +121,18 @@ def sp2(k1: Vec, p1: Vec, k2: Vec, p2: Vec, free1: tuple[float, float], free2: t
     n1, n2 = norm(p1), norm(p2)
     if n1 < DEGENERATE or n2 < DEGENERATE:
         return free1, free2, free1, free2, n1 < DEGENERATE and n2 < DEGENERATE
-    u1, u2 = scale(1.0 / n1, p1), scale(1.0 / n2, p2)
+    u1, u2 = scale(p1, 1.0 / n1), scale(p2, 1.0 / n2)
     k12 = dot(k1, k2)
     det = 1.0 - k12 * k12
     a1, a2 = dot(k1, u1), dot(k2, u2)
     alpha = (a1 - k12 * a2) / det
     beta = (a2 - k12 * a1) / det
-    v0 = add(scale(alpha, k1), scale(beta, k2))
+    v0 = add(scale(k1, alpha), scale(k2, beta))
     n = cross(k1, k2)
     g2 = (1.0 - dot(v0, v0)) / det
     exact = g2 > -1e-9
     g = math.sqrt(g2) if g2 > 0.0 else 0.0
-    va, vb = add(v0, scale(g, n)), sub(v0, scale(g, n))
+    va, vb = add(v0, scale(n, g)), sub(v0, scale(n, g))
     a1, a2 = perp(k1, u1), perp(k2, u2)  # SP1 four times, sharing what it can
     first, second = _angle(k1, a1, perp(k1, va), free1), _angle(k2, a2, perp(k2, va), free2)
     if not both:

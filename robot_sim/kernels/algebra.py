@@ -1,5 +1,5 @@
-"""Compiled building blocks shared by every kernel: cos and sin of one angle, the cross
-product, the Cholesky factorisation and its solve, and the stages and combine of the
+"""Compiled building blocks shared by every kernel: cos and sin of one angle, 3-vector
+arithmetic on tuples (dot and cross products, sums, the part across a unit vector), the Cholesky factorisation and its solve, and the stages and combine of the
 classical Runge–Kutta step (and of semi-implicit Euler).
 
 Each exists once in the package; the kernels of kinematics, dynamics, collision,
@@ -56,6 +56,48 @@ def cos_sin(x):
 def cross(a, b):
     """a × b of two 3-vectors (tuples or arrays), as a tuple."""
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+# Plain kernels, not numba-inlined: LLVM inlines them where they are called, and numba's
+# inlining of every call site cost the IK's solvers half again their compile time.
+
+
+@njit(**JIT)
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**JIT)
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@njit(**JIT)
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@njit(**JIT)
+def madd(a, b, s):
+    """a + s b."""
+    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
+
+
+@njit(**JIT)
+def scale(a, s):
+    """s a."""
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+@njit(**JIT)
+def norm(a):
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@njit(**JIT)
+def perp(k, a):
+    """a without its component along the unit vector k."""
+    return sub(a, scale(k, dot(k, a)))
 
 
 # ------------------------------------------------------------------ Cholesky

@@ -31,9 +31,9 @@ import numpy as np
 
 from robot_sim.collision import layout as L
 from robot_sim.collision.batch import _gap, _pose, place_shape
-from robot_sim.collision.closest import any_perpendicular, dot, point_box
+from robot_sim.collision.closest import any_perpendicular, point_box
 from robot_sim.collision.narrow import axis_z, core_ends, pair_distance, to_local
-from robot_sim.kernels.algebra import cholesky, cross, solve_factored
+from robot_sim.kernels.algebra import cholesky, cross, dot, perp, solve_factored, sub
 from robot_sim.kernels.chain import frames
 from robot_sim.kernels.jit import INLINE, JIT, UNCOUNTED, njit
 
@@ -209,21 +209,12 @@ def _move_anchors(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, gains, mu, 
     fn = max(g[K_N] * (-d) - g[C_N] * rate, 0.0)
     xa = to_world(F, ka, anchor[0])
     xb = to_world(F, kb, anchor[1])
-    u0, u1, u2 = _across(xa, xb, nrm)
+    u0, u1, u2 = perp(nrm, sub(xb, xa))  # the anchors' offset across the normal
     size = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
     cap = mu * fn / g[K_T]
     if size > cap:
         keep = 1.0 - cap / size
         to_body(F, kb, (xb[0] - keep * u0, xb[1] - keep * u1, xb[2] - keep * u2), anchor[1])
-
-
-@njit(**INLINE)
-def _across(xa, xb, nrm):
-    """The part of the offset xb − xa (world points, 3-tuples) across the unit normal nrm:
-    a contact point's tangential offset between its two friction anchors."""
-    w0, w1, w2 = xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]
-    wn = w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]
-    return w0 - wn * nrm[0], w1 - wn * nrm[1], w2 - wn * nrm[2]
 
 
 @njit(**INLINE)
@@ -243,7 +234,7 @@ def _contact_force(F, ka, kb, d, a, b, nrm, qd, axis_frame, revolute, mu, out, p
     if mu > 0.0 and out[p, slot, O_ANCHORED] == 1.0:
         xa = to_world(F, ka, (out[p, slot, O_ANCHOR_A], out[p, slot, O_ANCHOR_A + 1], out[p, slot, O_ANCHOR_A + 2]))
         xb = to_world(F, kb, (out[p, slot, O_ANCHOR_B], out[p, slot, O_ANCHOR_B + 1], out[p, slot, O_ANCHOR_B + 2]))
-        u0, u1, u2 = _across(xa, xb, nrm)
+        u0, u1, u2 = perp(nrm, sub(xb, xa))
     f0, f1, f2 = fn * nrm[0], fn * nrm[1], fn * nrm[2]
     if mu > 0.0 and fn > 0.0:
         t0, t1, t2 = v0 - rate * nrm[0], v1 - rate * nrm[1], v2 - rate * nrm[2]
